@@ -1,0 +1,12 @@
+#pragma once
+// Each subcommand lives in its own file and registers itself on the top-level CLI11 app.
+// A subcommand's callback stores its exit status in `exitCode`; input errors are thrown
+// as exceptions and turned into one line on stderr by main.
+#include <CLI/CLI.hpp>
+
+namespace lvox {
+
+void addRenderCommand(CLI::App& app, int& exitCode);
+void addCompareCommand(CLI::App& app, int& exitCode);
+
+}  // namespace lvox

@@ -1,0 +1,22 @@
+// lvox: point-based global illumination with participating media.
+#include "src/app/commands.h"
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{"lvox: point-based global illumination with participating media"};
+  app.require_subcommand(1);
+  int exitCode = 0;
+  lvox::addRenderCommand(app, exitCode);
+  lvox::addCompareCommand(app, exitCode);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "lvox: error: " << e.what() << "\n";
+    return 1;
+  }
+  return exitCode;
+}

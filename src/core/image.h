@@ -1,0 +1,21 @@
+#pragma once
+// A linear RGB float image, row-major from the top-left pixel.
+#include "src/core/math.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace lvox {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<RGB> pixels;
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * h, RGB(0.0f)) {}
+  RGB& at(int x, int y) { return pixels[static_cast<size_t>(y) * width + x]; }
+  const RGB& at(int x, int y) const { return pixels[static_cast<size_t>(y) * width + x]; }
+};
+
+}  // namespace lvox

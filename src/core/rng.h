@@ -1,0 +1,33 @@
+#pragma once
+// Deterministic random numbers: every pixel (and every sample stream) gets its own PCG32
+// stream derived from (seed, pixel index), so images do not depend on the thread count.
+#include <pcg_random.hpp>
+
+#include <cstdint>
+
+namespace lvox {
+
+class Rng {
+ public:
+  Rng(uint64_t seed, uint64_t stream) : gen_(mix(seed), mix(stream)) {}
+
+  // Uniform in [0, 1): 24 random bits, so the result is never rounded up to 1.
+  float uniform() { return static_cast<float>(gen_() >> 8) * 0x1p-24f; }
+  double uniformDouble() {
+    const uint64_t hi = gen_(), lo = gen_();
+    return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1p-53;
+  }
+  uint32_t next() { return gen_(); }
+
+ private:
+  // SplitMix64 finaliser: neighbouring seeds/pixels give unrelated PCG states.
+  static uint64_t mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+  }
+  pcg32 gen_;
+};
+
+}  // namespace lvox
