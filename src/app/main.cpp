@@ -1,8 +1,8 @@
 // lvox: point-based global illumination with participating media.
-#include "src/app/commands.h"
-
 #include <exception>
 #include <iostream>
+
+#include "src/app/commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"lvox: point-based global illumination with participating media"};

@@ -1,9 +1,9 @@
 #pragma once
 // A linear RGB float image, row-major from the top-left pixel.
-#include "src/core/math.h"
-
 #include <cstddef>
 #include <vector>
+
+#include "src/core/math.h"
 
 namespace lvox {
 

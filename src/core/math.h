@@ -73,8 +73,7 @@ struct Bounds3 {
   Vec3 diagonal() const { return hi - lo; }
   Vec3 center() const { return (lo + hi) * 0.5f; }
   bool contains(const Vec3& p) const {
-    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
-           p.z <= hi.z;
+    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
   }
   // Slab test; returns false when the ray misses [tmin, tmax].
   bool intersect(const Ray& ray, float& t0, float& t1) const {

@@ -1,9 +1,8 @@
 #pragma once
 // Deterministic random numbers: every pixel (and every sample stream) gets its own PCG32
 // stream derived from (seed, pixel index), so images do not depend on the thread count.
-#include <pcg_random.hpp>
-
 #include <cstdint>
+#include <pcg_random.hpp>
 
 namespace lvox {
 

@@ -2,12 +2,12 @@
 // The scene model: what a scene file describes, after validation. Geometry is flattened
 // into one triangle mesh in world space; media are kept as descriptions that the volume
 // library turns into media objects.
-#include "src/core/math.h"
-
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "src/core/math.h"
 
 namespace lvox {
 
@@ -33,8 +33,8 @@ struct Material {
 // All triangles of the scene in world space; one material index per triangle.
 struct TriangleMesh {
   std::vector<Vec3> positions;
-  std::vector<uint32_t> indices;            // 3 per triangle
-  std::vector<uint32_t> triangleMaterial;   // 1 per triangle
+  std::vector<uint32_t> indices;           // 3 per triangle
+  std::vector<uint32_t> triangleMaterial;  // 1 per triangle
   size_t triangleCount() const { return triangleMaterial.size(); }
   Vec3 vertex(size_t tri, int k) const { return positions[indices[3 * tri + k]]; }
 };
@@ -61,7 +61,7 @@ struct MediumDesc {
   MediumType type = MediumType::Homogeneous;
   std::string field;  // "media[i]", for error messages
   // vdb
-  std::string file;   // absolute path
+  std::string file;  // absolute path
   std::string grid = "density";
   std::string emissionGrid;  // optional
   float densityScale = 1.0f;
@@ -86,7 +86,7 @@ struct MediumDesc {
 
 struct VolumeIntegratorSettings {
   std::string solver = "rk4";
-  float step = 0.1f;         // scene units
+  float step = 0.1f;  // scene units
   float tolerance = 1e-3f;
   float minStep = 1e-4f;
   float maxStep = 1.0f;

@@ -1,0 +1,110 @@
+// `lvox render SCENE.json -o OUT.exr [...]`: flags override the scene file.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "src/app/commands.h"
+#include "src/app/render_output.h"
+#include "src/core/error.h"
+#include "src/render/renderer.h"
+#include "src/scene/scene_loader.h"
+
+namespace lvox {
+namespace {
+
+struct RenderFlags {
+  std::string scene;
+  std::string output;
+  std::string report;
+  std::optional<std::string> mode;
+  std::optional<int> spp;
+  std::optional<int> maxBounces;
+  std::optional<uint64_t> seed;
+  std::optional<int> threads;
+  std::optional<std::string> solver;
+  std::optional<float> step;
+  std::optional<float> tolerance;
+  bool half = false;
+  bool quiet = false;
+};
+
+void applyOverrides(const RenderFlags& f, Scene& scene) {
+  if (f.mode) scene.render.mode = *f.mode;
+  if (f.spp) scene.render.spp = *f.spp;
+  if (f.maxBounces) scene.render.maxBounces = *f.maxBounces;
+  if (f.seed) scene.render.seed = *f.seed;
+  if (f.threads) scene.render.threads = *f.threads;
+  if (f.solver) scene.volume.solver = *f.solver;
+  if (f.step) scene.volume.step = *f.step;
+  if (f.tolerance) scene.volume.tolerance = *f.tolerance;
+}
+
+void printSummary(const Scene& scene, const Report& report, const std::string& output) {
+  const double seconds = report.times.at("total");
+  uint64_t rays = 0;
+  for (const char* key : {"camera_rays", "shadow_rays", "gather_rays", "path_rays"}) {
+    auto it = report.counts.find(key);
+    if (it != report.counts.end()) rays += it->second;
+  }
+  std::fprintf(stderr, "lvox: %s %dx%d %d spp, %s mode: %.2f s, %.2f Mrays/s -> %s\n",
+               std::filesystem::path(scene.path).filename().c_str(), scene.camera.width,
+               scene.camera.height, scene.render.spp, scene.render.mode.c_str(), seconds,
+               seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0, output.c_str());
+  auto invalid = report.counts.find("invalid_samples");
+  if (invalid != report.counts.end() && invalid->second > 0)
+    std::fprintf(stderr, "lvox: warning: %llu invalid (NaN/Inf/negative) samples were zeroed\n",
+                 static_cast<unsigned long long>(invalid->second));
+  for (const std::string& w : report.warnings)
+    std::fprintf(stderr, "lvox: warning: %s\n", w.c_str());
+}
+
+int runRender(const RenderFlags& flags) {
+  const auto start = std::chrono::steady_clock::now();
+  Report report;
+  Scene scene;
+  {
+    PhaseTimer timer(report, "scene_load");
+    scene = loadScene(flags.scene);
+  }
+  applyOverrides(flags, scene);
+  validateMode(scene);
+  RenderOutputs outputs(flags.output, flags.report, scene.inputFiles);
+  Image image = renderScene(scene, report);
+  report.memory["peak_rss"] = peakRssBytes();
+  report.times["total"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  outputs.write(image, report, flags.half);
+  if (!flags.quiet) printSummary(scene, report, outputs.exrPath());
+  return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  auto flags = std::make_shared<RenderFlags>();
+  CLI::App* cmd = app.add_subcommand("render", "Render a scene to OUT.exr and OUT.png");
+  cmd->add_option("scene", flags->scene, "Scene file (JSON)")->required();
+  cmd->add_option("-o,--output", flags->output,
+                  "Output EXR path (a PNG preview is written beside it)")
+      ->required();
+  cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
+  cmd->add_option("--mode", flags->mode, "direct");
+  cmd->add_option("--spp", flags->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path")
+      ->check(CLI::Range(0, 1 << 16));
+  cmd->add_option("--seed", flags->seed, "Random seed");
+  cmd->add_option("--threads", flags->threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--solver", flags->solver, "Volume solver (see docs/solvers.md)");
+  cmd->add_option("--step", flags->step, "Volume step in scene units")->check(CLI::PositiveNumber);
+  cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
+  cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
+  cmd->callback([flags, &exitCode]() { exitCode = runRender(*flags); });
+}
+
+}  // namespace lvox

@@ -1,0 +1,28 @@
+#pragma once
+// The files a render publishes: OUT.exr, its PNG preview and the optional report. They
+// are checked before rendering (so a bad path fails fast) and each is written to a
+// temporary file and renamed, so an interrupted or failed run loses nothing.
+#include <string>
+#include <vector>
+
+#include "src/core/image.h"
+#include "src/render/report.h"
+
+namespace lvox {
+
+class RenderOutputs {
+ public:
+  // Throws InputError if the output is not an .exr path, its directory does not exist,
+  // or any output would overwrite one of `inputs`.
+  RenderOutputs(std::string exrPath, std::string reportPath, std::vector<std::string> inputs);
+
+  void write(const Image& image, Report& report, bool half) const;
+  const std::string& exrPath() const { return exr_; }
+  const std::string& pngPath() const { return png_; }
+
+ private:
+  std::string exr_, png_, report_;
+  std::vector<std::string> inputs_;
+};
+
+}  // namespace lvox

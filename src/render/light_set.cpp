@@ -1,0 +1,70 @@
+#include "src/render/light_set.h"
+
+#include <algorithm>
+
+namespace lvox {
+
+LightSet::LightSet(const Scene& scene, int areaSamples)
+    : scene_(scene), areaSamples_(std::max(1, areaSamples)) {
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::Environment)
+      environment_ += l.intensity;
+    else
+      lights_.push_back(l);
+  }
+  const TriangleMesh& mesh = scene.mesh;
+  for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (!scene.materials[mesh.triangleMaterial[t]].isEmissive()) continue;
+    const Vec3 a = mesh.vertex(t, 0);
+    const float area = 0.5f * length(cross(mesh.vertex(t, 1) - a, mesh.vertex(t, 2) - a));
+    emissiveTriangles_.push_back(static_cast<uint32_t>(t));
+    totalArea_ += area;
+    areaCdf_.push_back(totalArea_);
+  }
+  for (float& c : areaCdf_) c /= totalArea_;
+}
+
+LightSample LightSet::sampleDelta(const Light& light, const Vec3& p) const {
+  LightSample s;
+  if (light.type == LightType::Directional) {
+    s.wi = -light.direction;
+    s.radiance = light.intensity;  // irradiance perpendicular to the light
+    return s;
+  }
+  const Vec3 toLight = light.position - p;
+  const float d2 = dot(toLight, toLight);
+  if (!(d2 > 0.0f)) return s;  // the point is at the light: no defined direction
+  s.distance = std::sqrt(d2);
+  s.wi = toLight / s.distance;
+  float factor = 1.0f / d2;
+  if (light.type == LightType::Spot) factor *= light.spotFactor(-s.wi);
+  s.radiance = light.intensity * factor;
+  return s;
+}
+
+LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
+  LightSample s;
+  const float u = rng.uniform();
+  const size_t i = std::min<size_t>(
+      static_cast<size_t>(std::lower_bound(areaCdf_.begin(), areaCdf_.end(), u) - areaCdf_.begin()),
+      emissiveTriangles_.size() - 1);
+  const uint32_t tri = emissiveTriangles_[i];
+  const TriangleMesh& mesh = scene_.mesh;
+  const Vec3 a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
+  float b1, b2;
+  uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
+  const Vec3 q = a * (1.0f - b1 - b2) + b * b1 + c * b2;
+  const Vec3 toLight = q - p;
+  const float d2 = dot(toLight, toLight);
+  if (!(d2 > 0.0f)) return s;
+  s.distance = std::sqrt(d2);
+  s.wi = toLight / s.distance;
+  const Vec3 n = normalize(cross(b - a, c - a));
+  const float cosLight = std::abs(dot(n, s.wi));  // emitters are two-sided
+  // Area pdf 1/A over all emitters, converted to solid angle: d^2 / (A cos).
+  s.radiance = scene_.materials[mesh.triangleMaterial[tri]].emission * (cosLight * totalArea_ / d2);
+  s.fromEmitter = true;
+  return s;
+}
+
+}  // namespace lvox

@@ -1,0 +1,90 @@
+#pragma once
+// Every light of a scene behind one sampling interface: point, spot, directional and
+// environment lights from the scene file, and area lights made of emissive triangles.
+#include <vector>
+
+#include "src/core/rng.h"
+#include "src/core/sampling.h"
+#include "src/scene/scene.h"
+
+namespace lvox {
+
+// One sample of light arriving at a point: from direction `wi` (unit, towards the light)
+// over a distance `distance` (infinite for directional and environment light).
+// `radiance` is the unoccluded contribution already divided by the sampling pdf, so an
+// estimator sums f(wi) * radiance (times visibility and transmittance) over samples.
+struct LightSample {
+  Vec3 wi;
+  float distance = kInf;
+  RGB radiance{0.0f};
+  bool fromEmitter = false;  // an area-light sample: its distance ends on the emitter
+};
+
+class LightSet {
+ public:
+  LightSet(const Scene& scene, int areaSamples);
+
+  // Calls f(sample) for each light sample seen from `p`. Delta lights give one sample
+  // each; area and environment lights give `areaSamples` samples each, weighted 1/N.
+  // With `normal`, the environment is sampled cosine-weighted about it (surfaces);
+  // without, uniformly over the sphere (media).
+  template <class F>
+  void forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const;
+
+  bool hasAreaLights() const { return !emissiveTriangles_.empty(); }
+  float emissiveArea() const { return totalArea_; }
+  const std::vector<Light>& lights() const { return lights_; }
+  RGB environment() const { return environment_; }
+
+  // Unoccluded sample of one point/spot/directional light at p.
+  LightSample sampleDelta(const Light& light, const Vec3& p) const;
+  // A uniform-by-area sample of the emissive triangles, seen from p.
+  LightSample sampleArea(const Vec3& p, Rng& rng) const;
+
+ private:
+  const Scene& scene_;
+  std::vector<Light> lights_;  // point, spot, directional
+  RGB environment_{0.0f};
+  std::vector<uint32_t> emissiveTriangles_;
+  std::vector<float> areaCdf_;  // cumulative area, normalised to end at 1
+  float totalArea_ = 0.0f;
+  int areaSamples_ = 1;
+};
+
+template <class F>
+void LightSet::forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
+  for (const Light& light : lights_) {
+    LightSample s = sampleDelta(light, p);
+    if (!isBlack(s.radiance)) f(s);
+  }
+  const float weight = 1.0f / static_cast<float>(areaSamples_);
+  if (!isBlack(environment_)) {
+    for (int i = 0; i < areaSamples_; ++i) {
+      LightSample s;
+      const float u1 = rng.uniform(), u2 = rng.uniform();
+      if (normal) {
+        // Cosine sampling: pdf = cos/pi, so radiance/pdf = L pi / cos; the caller's cos
+        // cancels it.
+        const Vec3 local = cosineHemisphere(u1, u2);
+        s.wi = Frame(*normal).toWorld(local);
+        const float pdf = std::max(cosineHemispherePdf(local.z), 1e-8f);
+        s.radiance = environment_ * (weight / pdf);
+      } else {
+        s.wi = uniformSphere(u1, u2);
+        s.radiance = environment_ * (weight / kUniformSpherePdf);
+      }
+      f(s);
+    }
+  }
+  if (!emissiveTriangles_.empty()) {
+    for (int i = 0; i < areaSamples_; ++i) {
+      LightSample s = sampleArea(p, rng);
+      if (!isBlack(s.radiance)) {
+        s.radiance *= weight;
+        f(s);
+      }
+    }
+  }
+}
+
+}  // namespace lvox

@@ -1,0 +1,23 @@
+#include "src/render/report.h"
+
+#include <sys/resource.h>
+
+namespace lvox {
+
+nlohmann::json Report::toJson() const {
+  nlohmann::json j;
+  j["times"] = times;
+  j["counts"] = counts;
+  j["memory"] = memory;
+  j["settings"] = settings;
+  j["warnings"] = warnings;
+  return j;
+}
+
+uint64_t peakRssBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<uint64_t>(usage.ru_maxrss) * 1024u;  // Linux reports KiB
+}
+
+}  // namespace lvox

@@ -1,0 +1,45 @@
+#pragma once
+// What a render measured: seconds per phase, counts, memory. Written as report.json and
+// summarised on stderr.
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace lvox {
+
+struct Report {
+  std::map<std::string, double> times;     // seconds; "total" is the whole command
+  std::map<std::string, uint64_t> counts;  // surfels, lvoxels, camera_rays, medium_evals, ...
+  std::map<std::string, uint64_t> memory;  // bytes
+  std::map<std::string, std::string> settings;
+  std::vector<std::string> warnings;
+
+  void add(const std::string& count, uint64_t n) { counts[count] += n; }
+  nlohmann::json toJson() const;
+};
+
+// Adds the seconds between construction and destruction to report.times[phase].
+class PhaseTimer {
+ public:
+  PhaseTimer(Report& report, std::string phase)
+      : report_(report), phase_(std::move(phase)), start_(std::chrono::steady_clock::now()) {}
+  ~PhaseTimer() {
+    report_.times[phase_] +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  Report& report_;
+  std::string phase_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Peak resident set size of this process, in bytes.
+uint64_t peakRssBytes();
+
+}  // namespace lvox

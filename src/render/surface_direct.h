@@ -1,0 +1,25 @@
+#pragma once
+// Direct light reflected by a Lambertian surface point: every light, exact shadow rays.
+#include "src/render/render_context.h"
+
+namespace lvox {
+
+// Reflected radiance rho/pi * sum_lights Li cos(theta) V. `transmittance(ray)` gives the
+// fraction of light that survives the media along an unoccluded shadow ray (1 without
+// media); it is only called for rays that no surface blocks.
+template <class Transmittance>
+RGB surfaceDirect(const RenderContext& ctx, const SurfaceHit& hit, const RGB& albedo, Rng& rng,
+                  Transmittance&& transmittance, uint64_t& shadowRays) {
+  RGB sum(0.0f);
+  ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
+    const float cosTheta = dot(s.wi, hit.normal);
+    if (cosTheta <= 0.0f) return;
+    const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
+    ++shadowRays;
+    if (ctx.tracer.occluded(shadow)) return;
+    sum += s.radiance * transmittance(shadow) * cosTheta;
+  });
+  return albedo * sum * kInvPi;
+}
+
+}  // namespace lvox

@@ -1,0 +1,200 @@
+#include "src/scene/mesh_loader.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <tiny_obj_loader.h>
+
+#include <assimp/Importer.hpp>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "src/core/error.h"
+
+namespace lvox {
+namespace {
+
+void requireReadable(const std::string& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, field, std::string("cannot open: ") + std::strerror(errno));
+}
+
+uint32_t materialIndex(Scene& scene, const std::string& name, const RGB& albedo,
+                       const RGB& emission) {
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == name) return static_cast<uint32_t>(i);
+  scene.materials.push_back(Material{name, albedo, emission});
+  return static_cast<uint32_t>(scene.materials.size() - 1);
+}
+
+float clampAlbedo(float v) { return std::clamp(v, 0.0f, 1.0f); }
+
+// Assimp's PLY reader can loop forever on a malformed header, so the header is checked
+// here first: the magic line, a known format, and only known header keywords before
+// end_header.
+void checkPlyHeader(const std::string& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  auto bad = [&](const std::string& why) {
+    throw InputError(path, field, "malformed PLY: " + why);
+  };
+  if (!std::getline(in, line) || line.substr(0, 3) != "ply") bad("missing 'ply' magic line");
+  bool format = false, vertices = false;
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header") {
+      if (!format) bad("no format line");
+      if (!vertices) bad("no vertex element");
+      return;
+    }
+    if (keyword == "format") {
+      std::string kind;
+      words >> kind;
+      if (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian")
+        bad("unknown format '" + kind + "' on line " + std::to_string(n));
+      format = true;
+    } else if (keyword == "element") {
+      std::string name;
+      long long count = -1;
+      words >> name >> count;
+      if (!words || count < 0) bad("bad element line " + std::to_string(n));
+      if (name == "vertex") vertices = true;
+    } else if (keyword != "property" && keyword != "comment" && keyword != "obj_info") {
+      bad("unexpected header line " + std::to_string(n) + ": '" + line.substr(0, 40) + "'");
+    }
+  }
+  bad("no end_header");
+}
+
+}  // namespace
+
+bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c,
+                 uint32_t material) {
+  for (const Vec3& p : {a, b, c})
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+  const Vec3 n = cross(b - a, c - a);
+  if (!(length(n) > 0.0f)) return false;
+  const auto base = static_cast<uint32_t>(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), {a, b, c});
+  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2});
+  mesh.triangleMaterial.push_back(material);
+  return true;
+}
+
+MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
+                      const std::string& materialOverride, Scene& scene) {
+  requireReadable(path, field);
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  config.mtl_search_path = std::filesystem::path(path).parent_path().string();
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config)) {
+    std::string msg = reader.Error();
+    while (!msg.empty() && (msg.back() == '\n' || msg.back() == '\r')) msg.pop_back();
+    throw InputError(path, field, "malformed OBJ: " + msg.substr(0, 300));
+  }
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  const size_t vertexCount = attrib.vertices.size() / 3;
+
+  // Scene material for each MTL material (or the override for all).
+  std::vector<uint32_t> mtlToScene;
+  const std::string stem = std::filesystem::path(path).stem().string();
+  uint32_t overrideIndex = 0;
+  if (!materialOverride.empty()) {
+    bool found = false;
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+      if (scene.materials[i].name == materialOverride) {
+        overrideIndex = static_cast<uint32_t>(i);
+        found = true;
+      }
+    if (!found)
+      throw InputError(scene.path, field + ".material",
+                       "unknown material '" + materialOverride + "'");
+  } else {
+    for (const tinyobj::material_t& m : reader.GetMaterials()) {
+      const RGB kd(clampAlbedo(m.diffuse[0]), clampAlbedo(m.diffuse[1]), clampAlbedo(m.diffuse[2]));
+      const RGB ke(std::max(0.0f, m.emission[0]), std::max(0.0f, m.emission[1]),
+                   std::max(0.0f, m.emission[2]));
+      mtlToScene.push_back(materialIndex(scene, stem + "/" + m.name, kd, ke));
+    }
+  }
+  const uint32_t defaultMaterial =
+      materialOverride.empty() ? materialIndex(scene, stem + "/(default)", RGB(0.8f), RGB(0.0f))
+                               : overrideIndex;
+
+  MeshLoadStats stats;
+  std::vector<Vec3> world(vertexCount);
+  for (size_t i = 0; i < vertexCount; ++i)
+    world[i] = xf.point(
+        Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]));
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const auto& idx = shape.mesh.indices;
+    for (size_t f = 0; f + 2 < idx.size(); f += 3) {
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) {
+        const int vi = idx[f + k].vertex_index;
+        if (vi < 0 || static_cast<size_t>(vi) >= vertexCount)
+          throw InputError(path, field,
+                           "face in object '" + shape.name + "' refers to vertex " +
+                               std::to_string(vi + 1) + " but the file has " +
+                               std::to_string(vertexCount));
+        p[k] = world[static_cast<size_t>(vi)];
+      }
+      const int mid = shape.mesh.material_ids[f / 3];
+      uint32_t material = defaultMaterial;
+      if (materialOverride.empty() && mid >= 0 && static_cast<size_t>(mid) < mtlToScene.size())
+        material = mtlToScene[static_cast<size_t>(mid)];
+      if (addTriangle(scene.mesh, p[0], p[1], p[2], material))
+        ++stats.triangles;
+      else
+        ++stats.skippedDegenerate;
+    }
+  }
+  if (stats.triangles == 0) throw InputError(path, field, "the OBJ has no valid triangles");
+  return stats;
+}
+
+MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
+                      uint32_t material, Scene& scene) {
+  requireReadable(path, field);
+  checkPlyHeader(path, field);
+  Assimp::Importer importer;
+  const aiScene* ai = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_FindInvalidData);
+  if (!ai || !ai->mRootNode) {
+    std::string msg = importer.GetErrorString();
+    throw InputError(path, field, "malformed PLY: " + msg.substr(0, 300));
+  }
+  MeshLoadStats stats;
+  for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
+    const aiMesh* mesh = ai->mMeshes[m];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) {
+        const unsigned vi = face.mIndices[k];
+        if (vi >= mesh->mNumVertices)
+          throw InputError(path, field,
+                           "face " + std::to_string(f) + " refers to a missing vertex");
+        const aiVector3D& v = mesh->mVertices[vi];
+        p[k] = xf.point(Vec3(v.x, v.y, v.z));
+      }
+      if (addTriangle(scene.mesh, p[0], p[1], p[2], material))
+        ++stats.triangles;
+      else
+        ++stats.skippedDegenerate;
+    }
+  }
+  if (stats.triangles == 0) throw InputError(path, field, "the PLY has no valid triangles");
+  return stats;
+}
+
+}  // namespace lvox

@@ -1,0 +1,28 @@
+#pragma once
+// Loads triangle meshes (OBJ with MTL colours, PLY) into the scene's world-space mesh.
+#include <string>
+
+#include "src/scene/scene.h"
+
+namespace lvox {
+
+struct MeshLoadStats {
+  size_t triangles = 0;
+  size_t skippedDegenerate = 0;  // zero-area or non-finite triangles, not added
+};
+
+// Appends the OBJ's triangles, transformed, to `scene.mesh`. Each MTL material becomes a
+// scene material named "<file stem>/<mtl name>" with albedo Kd (and emission Ke), unless
+// `materialOverride` names a scene material to use for every triangle.
+MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
+                      const std::string& materialOverride, Scene& scene);
+
+// Appends the PLY's triangles (polygons are triangulated), all with `material`.
+MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
+                      uint32_t material, Scene& scene);
+
+// Adds one triangle unless it is degenerate or non-finite; returns whether it was added.
+bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c,
+                 uint32_t material);
+
+}  // namespace lvox

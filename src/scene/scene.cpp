@@ -1,0 +1,35 @@
+#include "src/scene/scene.h"
+
+namespace lvox {
+
+Ray Camera::generateRay(float px, float py) const {
+  const Vec3 forward = normalize(lookAt - position);
+  const Vec3 right = normalize(cross(forward, up));
+  const Vec3 trueUp = cross(right, forward);
+  const float tanHalf = std::tan(0.5f * vfovDeg * kPi / 180.0f);
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const float sx = (2.0f * px / static_cast<float>(width) - 1.0f) * tanHalf * aspect;
+  const float sy = (1.0f - 2.0f * py / static_cast<float>(height)) * tanHalf;
+  Ray r;
+  r.origin = position;
+  r.dir = normalize(forward + right * sx + trueUp * sy);
+  return r;
+}
+
+float Light::spotFactor(const Vec3& dirFromLight) const {
+  const float cosAngle = dot(dirFromLight, direction);
+  const float cosEdge = std::cos(coneDeg * kPi / 180.0f);
+  const float cosInner = std::cos((coneDeg - falloffDeg) * kPi / 180.0f);
+  if (cosAngle >= cosInner) return 1.0f;
+  if (cosAngle <= cosEdge) return 0.0f;
+  const float x = (cosAngle - cosEdge) / (cosInner - cosEdge);
+  return x * x * (3.0f - 2.0f * x);
+}
+
+Bounds3 Scene::bounds() const {
+  Bounds3 b;
+  for (const Vec3& p : mesh.positions) b.extend(p);
+  return b;
+}
+
+}  // namespace lvox

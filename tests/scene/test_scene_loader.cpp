@@ -1,0 +1,215 @@
+#include <gtest/gtest.h>
+
+#include "src/core/error.h"
+#include "src/scene/scene_loader.h"
+#include "test_util.h"
+
+namespace lvox {
+namespace {
+
+const char* kMinimal = R"({
+  "camera": {"position": [0, 1, 5], "look_at": [0, 0, 0], "vfov_deg": 40, "width": 64, "height": 32},
+  "materials": {"white": {"albedo": [0.5, 0.6, 0.7]}},
+  "shapes": [{"type": "quad", "corners": [[-1,0,-1],[1,0,-1],[1,0,1],[-1,0,1]], "material": "white"}],
+  "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": 2}]
+})";
+
+// Expects parseScene to throw an InputError whose message contains every fragment.
+void expectError(const std::string& text, std::initializer_list<std::string> fragments) {
+  try {
+    parseScene(text, "/tmp/scene.json");
+    FAIL() << "no error for: " << text;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("/tmp/scene.json", 0), 0u) << msg;  // the file comes first
+    for (const std::string& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+  }
+}
+
+std::string withField(const std::string& replaceFrom, const std::string& replaceTo) {
+  std::string s = kMinimal;
+  const size_t at = s.find(replaceFrom);
+  EXPECT_NE(at, std::string::npos) << replaceFrom;
+  return s.replace(at, replaceFrom.size(), replaceTo);
+}
+
+TEST(SceneLoader, MinimalScene) {
+  const Scene scene = parseScene(kMinimal, "/tmp/scene.json");
+  EXPECT_EQ(scene.camera.width, 64);
+  EXPECT_EQ(scene.camera.height, 32);
+  EXPECT_EQ(scene.mesh.triangleCount(), 2u);
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_FLOAT_EQ(scene.lights[0].intensity.y, 2.0f);
+  EXPECT_FLOAT_EQ(scene.materials[0].albedo.z, 0.7f);
+}
+
+TEST(SceneLoader, MalformedJsonNamesLineAndColumn) {
+  expectError("{\n  \"camera\": {\n    \"position\": [0, 1,, 5]\n  }\n}",
+              {"line 3", "malformed JSON"});
+}
+
+TEST(SceneLoader, MissingFile) {
+  EXPECT_THROW(loadScene("/nonexistent/scene.json"), InputError);
+  try {
+    loadScene("/nonexistent/scene.json");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("No such file"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneLoader, WrongType) {
+  expectError(withField("\"width\": 64", "\"width\": \"wide\""), {"camera.width", "integer"});
+  expectError(withField("\"vfov_deg\": 40", "\"vfov_deg\": [40]"), {"camera.vfov_deg", "number"});
+}
+
+TEST(SceneLoader, NonFiniteNumbers) {
+  // JSON has no NaN literal; the parser rejects it, and 1e400 overflows to infinity.
+  expectError(withField("\"irradiance\": 2", "\"irradiance\": NaN"), {"malformed JSON"});
+  expectError(withField("\"vfov_deg\": 40", "\"vfov_deg\": 1e400"), {"overflow"});
+}
+
+TEST(SceneLoader, BadValues) {
+  expectError(withField("\"width\": 64", "\"width\": -64"), {"camera.width", "outside"});
+  expectError(withField("\"height\": 32", "\"height\": 0"), {"camera.height"});
+  expectError(withField("\"vfov_deg\": 40", "\"vfov_deg\": 180"), {"camera.vfov_deg"});
+  expectError(withField("[0.5, 0.6, 0.7]", "[0.5, 1.6, 0.7]"), {"materials.white.albedo"});
+  expectError(withField("\"irradiance\": 2", "\"irradiance\": -2"), {"lights[0].irradiance"});
+  expectError(withField("\"direction\": [0, -1, 0]", "\"direction\": [0, 0, 0]"),
+              {"lights[0].direction"});
+}
+
+TEST(SceneLoader, UnknownKeysAreErrors) {
+  expectError(withField("\"vfov_deg\"", "\"vfov\": 3, \"vfov_deg\""), {"camera.vfov", "unknown"});
+  expectError(withField("\"camera\"", "\"camrea\": {}, \"camera\""), {"camrea", "unknown"});
+  expectError(withField("\"type\": \"directional\"", "\"type\": \"sun\""), {"lights[0].type"});
+  expectError(withField("\"material\": \"white\"", "\"material\": \"black\""),
+              {"shapes[0].material", "black"});
+}
+
+TEST(SceneLoader, TransformsScaleRotateTranslate) {
+  const std::string text = withField(
+      "\"material\": \"white\"}",
+      "\"material\": \"white\", \"transform\": {\"scale\": 2, \"rotate\": {\"axis\": [0,1,0], "
+      "\"deg\": 90}, \"translate\": [10, 0, 0]}}");
+  const Scene scene = parseScene(text, "/tmp/scene.json");
+  // Corner (-1,0,-1): scaled to (-2,0,-2), rotated 90 deg about y to (-2,0,2), moved by +10 x.
+  const Vec3 p = scene.mesh.vertex(0, 0);
+  EXPECT_NEAR(p.x, 8.0f, 1e-5f);
+  EXPECT_NEAR(p.y, 0.0f, 1e-5f);
+  EXPECT_NEAR(p.z, 2.0f, 1e-5f);
+}
+
+TEST(SceneLoader, ObjWithMtlColours) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "m.mtl", "newmtl red\nKd 0.8 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
+  test::writeFile(dir / "m.obj",
+                  "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 0\n"
+                  "usemtl red\nf 1 2 3 4\nusemtl lamp\nf 1 2 3\n"
+                  "f 1 2 5\n");  // the last face is degenerate: skipped
+  test::writeFile(dir / "s.json",
+                  std::string(R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "shapes": [{"type": "obj", "file": "m.obj"}]})"));
+  const Scene scene = loadScene((dir / "s.json").string());
+  ASSERT_EQ(scene.mesh.triangleCount(), 3u);  // quad -> 2 triangles, plus one
+  const Material& red = scene.materials[scene.mesh.triangleMaterial[0]];
+  EXPECT_FLOAT_EQ(red.albedo.x, 0.8f);
+  EXPECT_FLOAT_EQ(red.albedo.y, 0.1f);
+  const Material& lamp = scene.materials[scene.mesh.triangleMaterial[2]];
+  EXPECT_TRUE(lamp.isEmissive());
+  EXPECT_FLOAT_EQ(lamp.emission.x, 5.0f);
+}
+
+TEST(SceneLoader, ObjBadIndexAndMissingFile) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n");
+  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "shapes": [{"type": "obj", "file": "bad.obj"}]})");
+  try {
+    loadScene((dir / "s.json").string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.obj"), std::string::npos) << e.what();
+  }
+  test::writeFile(dir / "s2.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "shapes": [{"type": "obj", "file": "missing.obj"}]})");
+  try {
+    loadScene((dir / "s2.json").string());
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("missing.obj"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("shapes[0].file"), std::string::npos) << msg;
+  }
+}
+
+TEST(SceneLoader, PlyAsciiAndBinary) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "a.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                  "end_header\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n");
+  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "materials": {"m": {"albedo": 0.5}},
+    "shapes": [{"type": "ply", "file": "a.ply", "material": "m", "transform": {"translate": [0,0,3]}}]})");
+  const Scene scene = loadScene((dir / "s.json").string());
+  ASSERT_EQ(scene.mesh.triangleCount(), 2u);
+  const Bounds3 b = scene.bounds();
+  EXPECT_FLOAT_EQ(b.hi.x, 2.0f);
+  EXPECT_FLOAT_EQ(b.lo.z, 3.0f);
+  test::writeFile(dir / "c.ply", "ply\nformat ascii 1.0\nelement vertex 4\nthis is garbage\n");
+  test::writeFile(dir / "s2.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "materials": {"m": {"albedo": 0.5}}, "shapes": [{"type": "ply", "file": "c.ply", "material": "m"}]})");
+  EXPECT_THROW(loadScene((dir / "s2.json").string()), InputError);
+}
+
+TEST(SceneLoader, RealBunnyPly) {
+  const std::string path = std::string(LVOX_SHARED_DIR) + "/assets/bunny/bun_zipper_res2.ply";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared assets absent: " << path;
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "materials": {"m": {"albedo": 0.5}}, "shapes": [{"type": "ply", "file": ")" +
+                                      path + R"(", "material": "m"}]})");
+  const Scene scene = loadScene((dir / "s.json").string());
+  // The decimated Stanford bunny has 16,301 triangles (shared/assets/README.md).
+  EXPECT_NEAR(static_cast<double>(scene.mesh.triangleCount()), 16301.0, 5.0);
+}
+
+}  // namespace
+}  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// Truncated and corrupted copies of a valid binary-free PLY must give an error or a
+// smaller mesh, never a hang or a crash.
+TEST(SceneLoader, PlyTruncatedAndCorrupt) {
+  const auto dir = test::tempDir();
+  const std::string good =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n3 0 1 2\n3 0 2 3\n";
+  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "materials": {"m": {"albedo": 0.5}}, "shapes": [{"type": "ply", "file": "x.ply", "material": "m"}]})");
+  for (size_t cut : {good.size() / 4, good.size() / 2, good.size() - 8}) {
+    test::writeFile(dir / "x.ply", good.substr(0, cut));
+    try {
+      const Scene scene = loadScene((dir / "s.json").string());
+      EXPECT_LE(scene.mesh.triangleCount(), 2u);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("x.ply"), std::string::npos) << e.what();
+    }
+  }
+  std::string outOfRange = good;
+  outOfRange.replace(outOfRange.find("3 0 2 3"), 7, "3 0 2 9");
+  test::writeFile(dir / "x.ply", outOfRange);
+  try {
+    const Scene scene = loadScene((dir / "s.json").string());
+    EXPECT_LE(scene.mesh.triangleCount(), 1u);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.ply"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lvox
