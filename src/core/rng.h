@@ -8,7 +8,9 @@ namespace lvox {
 
 class Rng {
  public:
-  Rng(uint64_t seed, uint64_t stream) : gen_(mix(seed), mix(stream)) {}
+  // PCG streams that differ only in their increment are correlated, so the state is
+  // scrambled from both the seed and the stream as well.
+  Rng(uint64_t seed, uint64_t stream) : gen_(mix(mix(seed) ^ stream), mix(stream ^ ~seed)) {}
 
   // Uniform in [0, 1): 24 random bits, so the result is never rounded up to 1.
   float uniform() { return static_cast<float>(gen_() >> 8) * 0x1p-24f; }

@@ -64,6 +64,7 @@ LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
   // Area pdf 1/A over all emitters, converted to solid angle: d^2 / (A cos).
   s.radiance = scene_.materials[mesh.triangleMaterial[tri]].emission * (cosLight * totalArea_ / d2);
   s.fromEmitter = true;
+  s.pdf = areaPdf(s.distance, cosLight);
   return s;
 }
 

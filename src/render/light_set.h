@@ -18,6 +18,7 @@ struct LightSample {
   float distance = kInf;
   RGB radiance{0.0f};
   bool fromEmitter = false;  // an area-light sample: its distance ends on the emitter
+  float pdf = 0.0f;          // solid-angle pdf of an area-light sample (for MIS)
 };
 
 class LightSet {
@@ -40,6 +41,10 @@ class LightSet {
   LightSample sampleDelta(const Light& light, const Vec3& p) const;
   // A uniform-by-area sample of the emissive triangles, seen from p.
   LightSample sampleArea(const Vec3& p, Rng& rng) const;
+  // Solid-angle pdf with which sampleArea picks a point seen at `distance` under `cosLight`.
+  float areaPdf(float distance, float cosLight) const {
+    return distance * distance / (std::max(cosLight, 1e-8f) * totalArea_);
+  }
 
  private:
   const Scene& scene_;

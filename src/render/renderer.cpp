@@ -6,13 +6,14 @@
 
 #include "src/core/error.h"
 #include "src/render/direct_integrator.h"
+#include "src/render/mc_integrator.h"
 
 namespace lvox {
 
 void validateMode(const Scene& scene) {
   const std::string& mode = scene.render.mode;
-  if (mode != "direct")
-    throw InputError(scene.path, "render.mode", "unknown mode '" + mode + "' (direct)");
+  if (mode != "direct" && mode != "mc")
+    throw InputError(scene.path, "render.mode", "unknown mode '" + mode + "' (direct, mc)");
 }
 
 Image renderScene(const Scene& scene, Report& report) {
@@ -32,6 +33,7 @@ Image renderScene(const Scene& scene, Report& report) {
   report.settings["mode"] = scene.render.mode;
   report.settings["spp"] = std::to_string(scene.render.spp);
   report.settings["seed"] = std::to_string(scene.render.seed);
+  if (scene.render.mode == "mc") return renderMonteCarlo(ctx, report);
   return renderDirect(ctx, report);
 }
 

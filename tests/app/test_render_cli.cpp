@@ -1,0 +1,163 @@
+// End-to-end: the lvox executable, its outputs and its handling of bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace lvox {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exitCode = -1;
+  std::string err;
+};
+
+RunResult runLvox(const std::string& args, const fs::path& dir) {
+  const fs::path errFile = dir / "stderr.txt";
+  const std::string cmd =
+      std::string(LVOX_BINARY) + " " + args + " >/dev/null 2>" + errFile.string();
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(errFile);
+  std::ostringstream s;
+  s << in.rdbuf();
+  r.err = s.str();
+  fs::remove(errFile);
+  return r;
+}
+
+const char* kScene = R"({
+  "camera": {"position": [0, 2, 4], "look_at": [0, 0, 0], "vfov_deg": 40, "width": 48, "height": 32},
+  "render": {"spp": 2},
+  "materials": {"white": {"albedo": 0.7}},
+  "shapes": [{"type": "quad", "corners": [[-2,0,-2],[2,0,-2],[2,0,2],[-2,0,2]], "material": "white"},
+             {"type": "box", "min": [-0.3,0,-0.3], "max": [0.3,0.6,0.3], "material": "white"}],
+  "lights": [{"type": "directional", "direction": [0.3, -1, -0.2], "irradiance": 3},
+             {"type": "environment", "radiance": 0.1}]
+})";
+
+std::vector<std::string> listDir(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(RenderCli, WritesExrPngAndReport) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const RunResult r =
+      runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string() +
+                  " --report " + (dir / "report.json").string(),
+              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(listDir(dir),
+            (std::vector<std::string>{"out.exr", "out.png", "report.json", "scene.json"}));
+  std::ifstream in(dir / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_GT(report["times"]["total"].get<double>(), 0.0);
+  EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 48u * 32u * 2u);
+  EXPECT_GT(report["memory"]["peak_rss"].get<uint64_t>(), 0u);
+  EXPECT_NE(r.err.find("48x32"), std::string::npos) << "summary line: " << r.err;
+}
+
+// Each bad input: non-zero exit, one line on stderr naming the file and the field, and
+// nothing written.
+void expectCleanFailure(const std::string& sceneText, const std::string& field) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", sceneText);
+  const RunResult r =
+      runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string(), dir);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("scene.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(field), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
+}
+
+std::string replaced(const std::string& from, const std::string& to) {
+  std::string s = kScene;
+  return s.replace(s.find(from), from.size(), to);
+}
+
+TEST(RenderCli, MalformedJson) {
+  expectCleanFailure(replaced("\"spp\": 2}", "\"spp\": 2"), "line");
+}
+TEST(RenderCli, WrongType) {
+  expectCleanFailure(replaced("\"width\": 48", "\"width\": \"48\""), "camera.width");
+}
+TEST(RenderCli, NaNValue) {
+  expectCleanFailure(replaced("\"irradiance\": 3", "\"irradiance\": NaN"), "malformed JSON");
+}
+TEST(RenderCli, NegativeResolution) {
+  expectCleanFailure(replaced("\"height\": 32", "\"height\": -32"), "camera.height");
+}
+TEST(RenderCli, UnknownKey) {
+  expectCleanFailure(replaced("\"spp\": 2", "\"sps\": 2"), "render.sps");
+}
+TEST(RenderCli, MissingMesh) {
+  expectCleanFailure(
+      replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"),
+      "shapes[0].file");
+}
+
+TEST(RenderCli, MissingSceneFile) {
+  const auto dir = test::tempDir();
+  const RunResult r = runLvox(
+      "render " + (dir / "absent.json").string() + " -o " + (dir / "out.exr").string(), dir);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("absent.json"), std::string::npos) << r.err;
+  EXPECT_TRUE(listDir(dir).empty());
+}
+
+TEST(RenderCli, RefusesToOverwriteInputAndMissingDirectory) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  RunResult r = runLvox(
+      "render " + (dir / "scene.json").string() + " -o " + (dir / "nodir" / "out.exr").string(),
+      dir);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("nodir"), std::string::npos) << r.err;
+  // An output named like the scene (scene.json as the report) must not destroy it.
+  r = runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string() +
+                  " --report " + (dir / "scene.json").string(),
+              dir);
+  EXPECT_NE(r.exitCode, 0);
+  std::ifstream in(dir / "scene.json");
+  std::ostringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), kScene);
+  EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
+}
+
+TEST(RenderCli, SameImageForAnyThreadCount) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  ASSERT_EQ(runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "a.exr").string() +
+                        " --threads 1",
+                    dir)
+                .exitCode,
+            0);
+  ASSERT_EQ(runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "b.exr").string() +
+                        " --threads 2",
+                    dir)
+                .exitCode,
+            0);
+  std::ifstream a(dir / "a.exr", std::ios::binary), b(dir / "b.exr", std::ios::binary);
+  std::ostringstream sa, sb;
+  sa << a.rdbuf();
+  sb << b.rdbuf();
+  EXPECT_EQ(sa.str(), sb.str());
+}
+
+}  // namespace
+}  // namespace lvox
