@@ -67,13 +67,13 @@ struct GaussianBlob {
 
 // Emission-absorption: sigma_a = 2 + sin 7t, source sigma_a Le. L = Le + (Lbg - Le) e^-tau.
 struct EmissionAbsorption {
-  double le = 0.8;
+  double le = 0.8, omega = 7.0;
   Sample eval(double t) const {
-    const double sa = 2.0 + std::sin(7.0 * t);
+    const double sa = 2.0 + std::sin(omega * t);
     return {C3(sa), C3(sa * le)};
   }
   double exact(double d, double lbg) const {
-    const double tau = 2.0 * d + (1.0 - std::cos(7.0 * d)) / 7.0;
+    const double tau = 2.0 * d + (1.0 - std::cos(omega * d)) / omega;
     return le + (lbg - le) * std::exp(-tau);
   }
 };
