@@ -35,7 +35,11 @@ class AdaptiveRkDriver {
  public:
   AdaptiveRkDriver(const ButcherTableau<S>& tab, Eval& eval, RayState<Real>& state,
                    const SolveSettings<Real>& settings, Observer observer = {})
-      : tab_(tab), eval_(eval), s_(state), set_(settings), observer_(observer),
+      : tab_(tab),
+        eval_(eval),
+        s_(state),
+        set_(settings),
+        observer_(observer),
         h_(std::clamp(settings.step, settings.minStep, settings.maxStep)) {}
 
   void run(Real a, Real b) {

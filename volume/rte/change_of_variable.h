@@ -19,9 +19,9 @@ struct VariableChange {
   Real t0 = Real(0), sigmaRef = Real(1), delta = Real(0), h = Real(1);
 
   static VariableChange make(Sampling kind, Real t0, Real sigmaRef, Real delta, Real h) {
-    const bool ok = (kind == Sampling::kDistance && sigmaRef > Real(0) && std::isfinite(sigmaRef)) ||
-                    (kind == Sampling::kEquiangular && h > Real(0) && std::isfinite(h) &&
-                     std::isfinite(delta));
+    const bool ok =
+        (kind == Sampling::kDistance && sigmaRef > Real(0) && std::isfinite(sigmaRef)) ||
+        (kind == Sampling::kEquiangular && h > Real(0) && std::isfinite(h) && std::isfinite(delta));
     return ok ? VariableChange{kind, t0, sigmaRef, delta, h} : VariableChange{Sampling::kNone, t0};
   }
 

@@ -13,10 +13,10 @@ namespace lvox::rte {
 
 template <class Real>
 struct StepAttempt {
-  bool stable = true;     // false: sigma*h exceeded `limit`, nothing was committed
+  bool stable = true;  // false: sigma*h exceeded `limit`, nothing was committed
   Real sigmaMax = Real(0);
   Real limit = Real(0);
-  bool hasEnd = false;    // `end` is the sample at the step's end (the next start)
+  bool hasEnd = false;  // `end` is the sample at the step's end (the next start)
   MediumSample<Real> end{};
 };
 
@@ -99,8 +99,8 @@ class TrapezoidStepper {
       return out;
     }
     for (std::size_t c = 0; c < 3; ++c) {
-      const Real t1 = s.T[c] * (Real(1) - h * start.sigmaT[c] / 2) /
-                      (Real(1) + h * out.end.sigmaT[c] / 2);
+      const Real t1 =
+          s.T[c] * (Real(1) - h * start.sigmaT[c] / 2) / (Real(1) + h * out.end.sigmaT[c] / 2);
       s.Q[c] += h / 2 * s.scale[c] * (start.source[c] * s.T[c] + out.end.source[c] * t1);
       s.T[c] = t1;
     }
@@ -157,7 +157,7 @@ class TrapezoidPcStepper {
 template <class Real>
 class Ab4Stepper {
  public:
-  Ab4Stepper() : rk4_(kRk4Tableau, Real(2.78)) {}
+  Ab4Stepper() : rk4_(kRk4Tableau, Real(2)) {}
   uint64_t evalsPerStep() const { return 2; }  // worst case: an RK4 step
   void restart() { count_ = 0; }
 
@@ -169,7 +169,7 @@ class Ab4Stepper {
     const Channels<Real> fT = Channels<Real>(Real(0)) - start.sigmaT * s.T;
     const Channels<Real> fQ = start.source * s.scale * s.T;
     const bool equal = count_ >= 3 && std::abs(h - h_) <= Real(1e-9) * h;
-    if (equal && start.sigmaT.maxComponent() * h <= Real(0.3000003)) {
+    if (equal && start.sigmaT.maxComponent() * h <= Real(0.2000002)) {
       s.T += (fT * Real(55) - hT_[0] * Real(59) + hT_[1] * Real(37) - hT_[2] * Real(9)) * (h / 24);
       s.Q += (fQ * Real(55) - hQ_[0] * Real(59) + hQ_[1] * Real(37) - hQ_[2] * Real(9)) * (h / 24);
       push(fT, fQ, h);

@@ -16,15 +16,19 @@ struct MethodInfo {
 
 constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 
-// Limits: Euler's R = 1 + z flips sign at sigma*h = 1; midpoint and RK4 never flip sign but
-// leave |R| <= 1 at 2 and 2.785; AB4's stability interval is [-0.3, 0]; the fixed-point
-// corrector of trapezoid-pc contracts by sigma*h/2, so 1 keeps it converging within tol in
-// a few iterations. Adaptive pairs control stability through the error estimate.
+// Limits on sigma*h per step (oracles.md 2.5). At a stability boundary |R| = 1 and nothing
+// decays (midpoint: R(-2) = 1), so the limits sit where R still damps: Euler 1 (R = 0, its
+// positivity limit), midpoint 1 (R = 1/2, the minimum of R), RK4 2 (R = 1/3, boundary
+// 2.785), AB4 0.2 (boundary 0.3; beyond it RK4 takes the step), Simpson 2 (the panel's
+// quadratic interpolation of exp(-tau) is still within 1%). The trapezoid's R < 0 beyond 2
+// (handled by a backward-Euler step). The fixed-point corrector of trapezoid-pc contracts
+// by sigma*h/2, so 1 keeps it converging to tol in a few iterations. Adaptive pairs control
+// stability through their error estimate.
 constexpr MethodInfo kInfo[] = {
     {Method::kEuler, "euler", 1, 1.0},
-    {Method::kRk2, "rk2", 2, 2.0},
-    {Method::kRk4, "rk4", 4, 2.78},
-    {Method::kAb4, "ab4", 4, 0.3},
+    {Method::kRk2, "rk2", 2, 1.0},
+    {Method::kRk4, "rk4", 4, 2.0},
+    {Method::kAb4, "ab4", 4, 0.2},
     {Method::kBackwardEuler, "backward-euler", 1, kNoLimit},
     {Method::kTrapezoid, "trapezoid", 2, 2.0},
     {Method::kTrapezoidPc, "trapezoid-pc", 2, 1.0},
@@ -35,7 +39,7 @@ constexpr MethodInfo kInfo[] = {
     {Method::kDopri5, "dopri5", 5, kNoLimit},
     {Method::kVerner56, "verner56", 6, kNoLimit},
     {Method::kRectangle, "rectangle", 1, kNoLimit},
-    {Method::kSimpson, "simpson", 4, kNoLimit},
+    {Method::kSimpson, "simpson", 4, 2.0},
     {Method::kAdaptiveSimpson, "adaptive-simpson", 4, kNoLimit},
     {Method::kGaussKronrod, "gauss-kronrod", 22, kNoLimit},
     {Method::kMonteCarlo, "monte-carlo", 0, kNoLimit},
@@ -83,14 +87,16 @@ Method parseMethod(std::string_view name, const std::string& file, const std::st
     if (i.name == name) return i.method;
     valid += (valid.empty() ? "" : ", ") + std::string(i.name);
   }
-  throw InputError(file, field, "unknown solver '" + std::string(name) + "' (valid: " + valid + ")");
+  throw InputError(file, field,
+                   "unknown solver '" + std::string(name) + "' (valid: " + valid + ")");
 }
 
 Sampling parseSampling(std::string_view name, const std::string& file, const std::string& field) {
   for (int i = 0; i < 3; ++i)
     if (kSamplingNames[i] == name) return static_cast<Sampling>(i);
-  throw InputError(file, field,
-                   "unknown sampling '" + std::string(name) + "' (valid: none, distance, equiangular)");
+  throw InputError(
+      file, field,
+      "unknown sampling '" + std::string(name) + "' (valid: none, distance, equiangular)");
 }
 
 }  // namespace lvox::rte

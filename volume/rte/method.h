@@ -30,11 +30,11 @@ enum class Method {
 };
 
 inline constexpr Method kAllMethods[] = {
-    Method::kEuler,     Method::kRk2,           Method::kRk4,         Method::kAb4,
+    Method::kEuler,         Method::kRk2,       Method::kRk4,         Method::kAb4,
     Method::kBackwardEuler, Method::kTrapezoid, Method::kTrapezoidPc, Method::kRk12,
-    Method::kBs23,      Method::kRkf45,         Method::kCashKarp,    Method::kDopri5,
-    Method::kVerner56,  Method::kRectangle,     Method::kSimpson,     Method::kAdaptiveSimpson,
-    Method::kGaussKronrod, Method::kMonteCarlo};
+    Method::kBs23,          Method::kRkf45,     Method::kCashKarp,    Method::kDopri5,
+    Method::kVerner56,      Method::kRectangle, Method::kSimpson,     Method::kAdaptiveSimpson,
+    Method::kGaussKronrod,  Method::kMonteCarlo};
 
 // Changes of variable (Munoz 2014 sec. 5: importance sampling as a reparametrisation).
 enum class Sampling { kNone, kDistance, kEquiangular };

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "src/core/rng.h"
+#include "volume/rte/fixed_step.h"
 #include "volume/rte/state.h"
 
 namespace lvox::rte {
@@ -29,16 +30,19 @@ struct GaussKronrod15 {
 
 inline const GaussKronrod15& gaussKronrod15() {
   static const GaussKronrod15 rule = [] {
-    constexpr double xgk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                               0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                               0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                               0.207784955007898467600689403773245, 0.0};
-    constexpr double wgk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-                               0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-                               0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-                               0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-    constexpr double wg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                              0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+    constexpr double xgk[8] = {
+        0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+        0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+        0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+        0.207784955007898467600689403773245, 0.0};
+    constexpr double wgk[8] = {
+        0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+        0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+        0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+        0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+    constexpr double wg[4] = {
+        0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+        0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
     GaussKronrod15 r{};
     for (int i = 0; i < 8; ++i) {
       r.nodes[i] = -xgk[i];
@@ -67,6 +71,10 @@ inline const GaussKronrod15& gaussKronrod15() {
   return rule;
 }
 
+// Left-point ray marching: sigma and J are taken at the step's left end, and the
+// attenuation inside the step is integrated exactly, Q += T J (1 - e^{-sigma h}) / sigma,
+// as renderers march. Still order 1, but bounded by J/sigma for any h (the pure left rule
+// T J h overshoots by sigma h on optically thick steps).
 template <class Real, class Eval>
 void rectangleRule(Eval& eval, RayState<Real>& s, Real a, Real b, const JitteredGrid<Real>& grid) {
   Real t = a;
@@ -74,10 +82,7 @@ void rectangleRule(Eval& eval, RayState<Real>& s, Real a, Real b, const Jittered
     const Real tEnd = grid.next(t, b);
     if (!eval.canAfford(1)) return finishGracefully(eval, s, t, b);
     const MediumSample<Real> m = eval(t);
-    const Real h = tEnd - t;
-    s.Q += m.source * s.scale * s.T * h;
-    for (std::size_t c = 0; c < 3; ++c) s.T[c] *= std::exp(-m.sigmaT[c] * h);
-    s.settle();
+    constantCoefficientStep(s, m, m, tEnd - t);
     ++eval.counts().steps;
     t = tEnd;
   }
@@ -101,8 +106,8 @@ SimpsonPanel<Real> simpsonPanel(const MediumSample<Real>& a, const MediumSample<
     const Real tauMid =
         std::clamp(h / 24 * (5 * a.sigmaT[c] + 8 * m.sigmaT[c] - b.sigmaT[c]), Real(0), tau);
     p.tau[c] = tau;
-    p.q[c] = h / 6 *
-             (a.source[c] + 4 * m.source[c] * std::exp(-tauMid) + b.source[c] * std::exp(-tau));
+    p.q[c] =
+        h / 6 * (a.source[c] + 4 * m.source[c] * std::exp(-tauMid) + b.source[c] * std::exp(-tau));
     p.tauTrap[c] = h / 2 * (a.sigmaT[c] + b.sigmaT[c]);
     p.qTrap[c] = h / 2 * (a.source[c] + b.source[c] * std::exp(-p.tauTrap[c]));
   }
@@ -116,23 +121,31 @@ void applyPanel(RayState<Real>& s, const Channels<Real>& q, const Channels<Real>
   s.settle();
 }
 
-template <class Real, class Eval>
-void simpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, const JitteredGrid<Real>& grid) {
-  if (!eval.canAfford(1)) return finishGracefully(eval, s, a, b);
-  MediumSample<Real> start = eval(a);
-  Real t = a;
-  while (t < b) {
-    const Real tEnd = grid.next(t, b);
-    if (!eval.canAfford(2)) return finishGracefully(eval, s, t, b);
-    const MediumSample<Real> mid = eval(t + (tEnd - t) / 2);
-    const MediumSample<Real> end = eval(tEnd);
-    const SimpsonPanel<Real> p = simpsonPanel(start, mid, end, tEnd - t);
+// Composite Simpson as a fixed-step stepper, so the fixed-step driver's stiffness handling
+// applies: a panel with sigma h > 2 is split (a stability event) or replaced by an exact
+// constant-coefficient step.
+template <class Real>
+class SimpsonStepper {
+ public:
+  uint64_t evalsPerStep() const { return 2; }
+  void restart() {}
+  template <class Eval>
+  StepAttempt<Real> attempt(RayState<Real>& s, Real t, Real tEnd, const MediumSample<Real>& start,
+                            Eval& eval) {
+    const Real h = tEnd - t;
+    StepAttempt<Real> out{true, start.sigmaT.maxComponent(), Real(2)};
+    if (out.sigmaMax * h > out.limit * Real(1.000001)) return out.stable = false, out;
+    const MediumSample<Real> mid = eval(t + h / 2);
+    out.hasEnd = true;
+    out.end = eval(tEnd);
+    out.sigmaMax =
+        std::max({out.sigmaMax, mid.sigmaT.maxComponent(), out.end.sigmaT.maxComponent()});
+    if (out.sigmaMax * h > out.limit * Real(1.000001)) return out.stable = false, out;
+    const SimpsonPanel<Real> p = simpsonPanel(start, mid, out.end, h);
     applyPanel(s, p.q, p.tau);
-    ++eval.counts().steps;
-    start = end;
-    t = tEnd;
+    return out;
   }
-}
+};
 
 // Absolute error of a panel from its two nested estimates: error in Q plus error in T, both
 // weighted by the true transmittance at the panel start.
@@ -171,7 +184,11 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b,
       const SimpsonPanel<Real> sp = simpsonPanel(p.sa, p.sm, p.sb, h);
       const Real err = panelError(s, sp.q - sp.qTrap, sp.tau - sp.tauTrap);
       const bool broke = !eval.canAfford(2);
-      if (err <= tol * h / length || h / 2 < minStep || broke) {
+      // Both nested rules miss a boundary layer thinner than the panel and would agree on
+      // the wrong answer: an optically thick panel (tau > 2) is split regardless.
+      const bool thick = sp.tau.maxComponent() > Real(2);
+      if (thick && !broke && h / 2 >= minStep) ++eval.counts().stabilityEvents;
+      if ((err <= tol * h / length && !thick) || h / 2 < minStep || broke) {
         eval.counts().capped = eval.counts().capped || (broke && err > tol * h / length);
         applyPanel(s, sp.q, sp.tau);
         ++eval.counts().steps;
@@ -192,8 +209,8 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b,
 // Adaptive G7-K15 with recursive halving (all 15 samples of a rejected panel are dropped,
 // as Munoz 2014 describes). The accepted value is K15's; the error estimate |K15 - G7|.
 template <class Real, class Eval>
-void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b,
-                      const JitteredGrid<Real>& grid, Real tol, Real minStep, Real length) {
+void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, const JitteredGrid<Real>& grid,
+                      Real tol, Real minStep, Real length) {
   const GaussKronrod15& gk = gaussKronrod15();
   std::vector<std::pair<Real, Real>> stack;
   Real t = a;
@@ -206,7 +223,8 @@ void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b,
       if (!eval.canAfford(15)) return finishGracefully(eval, s, pa, b);
       const Real half = (pb - pa) / 2;
       std::array<MediumSample<Real>, 15> x;
-      for (int i = 0; i < 15; ++i) x[i] = eval(pa + half * (Real(1) + static_cast<Real>(gk.nodes[i])));
+      for (int i = 0; i < 15; ++i)
+        x[i] = eval(pa + half * (Real(1) + static_cast<Real>(gk.nodes[i])));
       Channels<Real> tauK(Real(0)), tauG(Real(0)), qK(Real(0)), qG(Real(0));
       for (int i = 0; i < 15; ++i) {
         tauK += x[i].sigmaT * static_cast<Real>(half * gk.kronrodWeights[i]);
@@ -214,7 +232,8 @@ void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b,
       }
       for (int i = 0; i < 15; ++i) {
         Channels<Real> tauI(Real(0));
-        for (int j = 0; j < 15; ++j) tauI += x[j].sigmaT * static_cast<Real>(half * gk.partial[i][j]);
+        for (int j = 0; j < 15; ++j)
+          tauI += x[j].sigmaT * static_cast<Real>(half * gk.partial[i][j]);
         for (std::size_t c = 0; c < 3; ++c) {
           const Real ti = x[i].source[c] * std::exp(-std::clamp(tauI[c], Real(0), tauK[c]));
           qK[c] += ti * static_cast<Real>(half * gk.kronrodWeights[i]);
@@ -222,7 +241,10 @@ void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b,
         }
       }
       const Real err = panelError(s, qK - qG, tauK - tauG);
-      if (err <= tol * (pb - pa) / length || half < minStep) {
+      // As in adaptive Simpson: an optically thick panel fools both rules alike; split it.
+      const bool thick = tauK.maxComponent() > Real(4);
+      if (thick && half >= minStep) ++eval.counts().stabilityEvents;
+      if ((err <= tol * (pb - pa) / length && !thick) || half < minStep) {
         applyPanel(s, qK, tauK);
         ++eval.counts().steps;
         continue;

@@ -37,9 +37,9 @@ struct SolveSettings {
 };
 
 struct SolveCounts {
-  uint64_t steps = 0;          // accepted steps (quadrature: accepted panels / samples)
-  uint64_t rejectedSteps = 0;  // adaptive rejections (quadrature: split panels)
-  uint64_t mediumEvals = 0;    // calls to problem.eval
+  uint64_t steps = 0;            // accepted steps (quadrature: accepted panels / samples)
+  uint64_t rejectedSteps = 0;    // adaptive rejections (quadrature: split panels)
+  uint64_t mediumEvals = 0;      // calls to problem.eval
   uint64_t stabilityEvents = 0;  // steps reduced (or replaced) because sigma_t*h > limit
   bool capped = false;           // hit maxEvaluations; the rest used the last sample
 

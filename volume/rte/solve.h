@@ -42,7 +42,8 @@ void validateSettings(const SolveSettings<Real>& s) {
   if (!(s.tolerance > Real(0)) || !std::isfinite(s.tolerance))
     fail("tolerance", "must be finite and > 0");
   if (!(s.minStep >= Real(0)) || !std::isfinite(s.minStep)) fail("min_step", "must be >= 0");
-  if (!(s.maxStep > Real(0)) || s.maxStep < s.minStep) fail("max_step", "must be >= min_step and > 0");
+  if (!(s.maxStep > Real(0)) || s.maxStep < s.minStep)
+    fail("max_step", "must be >= min_step and > 0");
   if (!(s.jitter >= Real(0) && s.jitter < Real(1))) fail("jitter", "must be in [0, 1)");
   if (s.maxEvaluations < 1) fail("max_evaluations", "must be >= 1");
   for (std::size_t i = 0; i < s.breakpoints.size(); ++i) {
@@ -81,28 +82,41 @@ void runMethod(Method method, Eval& ev, RayState<Real>& state, Real a, Real b,
   };
   auto adaptive = [&](const auto& tab) {
     AdaptiveRkDriver<Real, std::decay_t<decltype(tab)>::kStages, Eval, Observer> d(tab, ev, state,
-                                                                                  set, observer);
+                                                                                   set, observer);
     pieces([&](Real pa, Real pb) { d.run(pa, pb); });
   };
   const Real length = b - a;
   switch (method) {
-    case Method::kEuler: return fixedRk(kEulerTableau);
-    case Method::kRk2: return fixedRk(kMidpointTableau);
-    case Method::kRk4: return fixedRk(kRk4Tableau);
-    case Method::kAb4: return fixedOther(Ab4Stepper<Real>());
-    case Method::kBackwardEuler: return fixedOther(BackwardEulerStepper<Real>());
-    case Method::kTrapezoid: return fixedOther(TrapezoidStepper<Real>());
-    case Method::kTrapezoidPc: return fixedOther(TrapezoidPcStepper<Real>(set.tolerance));
-    case Method::kRk12: return adaptive(kHeunEulerTableau);
-    case Method::kBs23: return adaptive(kBs23Tableau);
-    case Method::kRkf45: return adaptive(kRkf45Tableau);
-    case Method::kCashKarp: return adaptive(kCashKarpTableau);
-    case Method::kDopri5: return adaptive(kDopri5Tableau);
-    case Method::kVerner56: return adaptive(kVerner56Tableau);
+    case Method::kEuler:
+      return fixedRk(kEulerTableau);
+    case Method::kRk2:
+      return fixedRk(kMidpointTableau);
+    case Method::kRk4:
+      return fixedRk(kRk4Tableau);
+    case Method::kAb4:
+      return fixedOther(Ab4Stepper<Real>());
+    case Method::kBackwardEuler:
+      return fixedOther(BackwardEulerStepper<Real>());
+    case Method::kTrapezoid:
+      return fixedOther(TrapezoidStepper<Real>());
+    case Method::kTrapezoidPc:
+      return fixedOther(TrapezoidPcStepper<Real>(set.tolerance));
+    case Method::kRk12:
+      return adaptive(kHeunEulerTableau);
+    case Method::kBs23:
+      return adaptive(kBs23Tableau);
+    case Method::kRkf45:
+      return adaptive(kRkf45Tableau);
+    case Method::kCashKarp:
+      return adaptive(kCashKarpTableau);
+    case Method::kDopri5:
+      return adaptive(kDopri5Tableau);
+    case Method::kVerner56:
+      return adaptive(kVerner56Tableau);
     case Method::kRectangle:
       return pieces([&](Real pa, Real pb) { rectangleRule(ev, state, pa, pb, grid); });
     case Method::kSimpson:
-      return pieces([&](Real pa, Real pb) { simpsonRule(ev, state, pa, pb, grid); });
+      return fixedOther(SimpsonStepper<Real>());
     case Method::kAdaptiveSimpson:
       return pieces([&](Real pa, Real pb) {
         adaptiveSimpsonRule(ev, state, pa, pb, grid, set.tolerance, set.minStep, length);
@@ -141,10 +155,11 @@ SolveResult<Real> solveOn(Method method, const Problem& problem, Real a, Real b,
 // variable (the same number of steps), and min/max step scale by (s1 - s0) / (t1 - t0).
 // `observer(t, h, before, after)` sees every accepted step of the adaptive pairs (tests).
 template <class Real, class Problem, class Observer = NoStepObserver>
-  requires RteProblem<Problem, Real>
-SolveResult<Real> solve(Method method, const Problem& problem, Real t0, Real t1,
-                        const Channels<Real>& background, const SolveSettings<Real>& settings,
-                        Observer observer = {}) {
+requires RteProblem<Problem, Real> SolveResult<Real> solve(Method method, const Problem& problem,
+                                                           Real t0, Real t1,
+                                                           const Channels<Real>& background,
+                                                           const SolveSettings<Real>& settings,
+                                                           Observer observer = {}) {
   validateSettings(settings);
   if (!std::isfinite(t0) || !std::isfinite(t1) || t1 < t0)
     throw InputError("volume_integrator", "segment", "needs finite t0 <= t1");
@@ -171,9 +186,8 @@ SolveResult<Real> solve(Method method, const Problem& problem, Real t0, Real t1,
 
 // Transmittance only (shadow rays): the same method on T' = -sigma_t T.
 template <class Real, class Problem>
-  requires RteProblem<Problem, Real>
-SolveResult<Real> solveTransmittance(Method method, const Problem& problem, Real t0, Real t1,
-                                     const SolveSettings<Real>& settings) {
+requires RteProblem<Problem, Real> SolveResult<Real> solveTransmittance(
+    Method method, const Problem& problem, Real t0, Real t1, const SolveSettings<Real>& settings) {
   const WithoutSource<Problem> dark{problem};
   return solve(method, dark, t0, t1, Channels<Real>(Real(0)), settings);
 }

@@ -43,8 +43,8 @@ struct RayState {
   Channels<Real> opticalDepth() const {
     Channels<Real> tau;
     for (std::size_t c = 0; c < 3; ++c)
-      tau[c] = T[c] > Real(0) ? tauShift[c] - std::log(T[c])
-                              : std::numeric_limits<Real>::infinity();
+      tau[c] =
+          T[c] > Real(0) ? tauShift[c] - std::log(T[c]) : std::numeric_limits<Real>::infinity();
     return tau;
   }
 };

@@ -26,7 +26,8 @@ struct Fit {
 
 Fit fitWindow(const std::vector<double>& h, const std::vector<double>& e, double L) {
   std::vector<double> hx, ey;
-  const double lo = 1e3 * std::numeric_limits<double>::epsilon() * std::abs(L), hi = 1e-2 * std::abs(L);
+  const double lo = 1e3 * std::numeric_limits<double>::epsilon() * std::abs(L),
+               hi = 1e-2 * std::abs(L);
   for (std::size_t k = 0; k < h.size(); ++k)
     if (e[k] > lo && e[k] < hi) hx.push_back(h[k]), ey.push_back(e[k]);
   Fit f;
@@ -72,9 +73,9 @@ TEST(RteConvergence, FixedStepOrdersOnHeterogeneousEmission) {
   // error ratios 23 -> 18 per halving, at the steps affordable here).
   const EmissionAbsorption ea{0.8, 3.0};
   const double exact = ea.exact(3.0, 0.3);
-  const Method methods[] = {Method::kEuler,       Method::kRk2,      Method::kRk4,
+  const Method methods[] = {Method::kEuler,       Method::kRk2,           Method::kRk4,
                             Method::kAb4,         Method::kBackwardEuler, Method::kTrapezoid,
-                            Method::kTrapezoidPc, Method::kRectangle, Method::kSimpson};
+                            Method::kTrapezoidPc, Method::kRectangle,     Method::kSimpson};
   for (Method m : methods) {
     // AB4's error constant (251/720) keeps it pre-asymptotic (ratios 20 -> 17) until h ~ 0.02.
     const int n0 = m == Method::kAb4 ? 128 : 32;
@@ -111,7 +112,8 @@ TEST(RteConvergence, StepSourceDropsToOrderOneAndBreakpointsRestoreIt) {
   const double exact = edge.exact(2.0, 0.2);
   for (Method m : {Method::kRk4, Method::kSimpson}) {
     const std::string name(methodName(m));
-    expectOrder(fixedStepOrder(m, edge, 2.0, 0.2, exact, 16, 8), 1.0, (name + " C0 source").c_str());
+    expectOrder(fixedStepOrder(m, edge, 2.0, 0.2, exact, 16, 8), 1.0,
+                (name + " C0 source").c_str());
     expectOrder(fixedStepOrder(m, edge, 2.0, 0.2, exact, 16, 6, {edge.tStar}), 4.0,
                 (name + " C0 + breakpoint").c_str());
   }
@@ -133,9 +135,9 @@ TEST(RteConvergence, AdaptivePairsStepGrowthAndWorkPrecision) {
     Method m;
     double p, estimateOrder;
   };
-  const Pair pairs[] = {{Method::kRk12, 2, 2},     {Method::kBs23, 3, 3},
-                        {Method::kRkf45, 4, 5},    {Method::kCashKarp, 5, 5},
-                        {Method::kDopri5, 5, 5},   {Method::kVerner56, 6, 6}};
+  const Pair pairs[] = {{Method::kRk12, 2, 2},   {Method::kBs23, 3, 3},
+                        {Method::kRkf45, 4, 5},  {Method::kCashKarp, 5, 5},
+                        {Method::kDopri5, 5, 5}, {Method::kVerner56, 6, 6}};
   for (const Pair& pr : pairs) {
     std::vector<double> tols, steps, evals, errs;
     for (double tol = 1e-6; tol > 1e-12 * 0.99; tol /= 10) {
@@ -158,8 +160,9 @@ TEST(RteConvergence, AdaptivePairsStepGrowthAndWorkPrecision) {
     const std::string name(methodName(pr.m));
     const double growth = -logLogSlope(tols, steps);
     const double wp = logLogSlope(evals, errs);
-    std::printf("adaptive %-9s steps ~ tol^-%.3f (expect %.3f); error vs evals slope %.2f (p = %g)\n",
-                name.c_str(), growth, 1 / pr.estimateOrder, wp, pr.p);
+    std::printf(
+        "adaptive %-9s steps ~ tol^-%.3f (expect %.3f); error vs evals slope %.2f (p = %g)\n",
+        name.c_str(), growth, 1 / pr.estimateOrder, wp, pr.p);
     ASSERT_GE(tols.size(), 3u) << name;
     EXPECT_NEAR(growth, 1 / pr.estimateOrder, pr.m == Method::kRk12 ? 0.05 : 0.03) << name;
     if (pr.m == Method::kRk12) {
@@ -172,15 +175,16 @@ TEST(RteConvergence, AdaptivePairsStepGrowthAndWorkPrecision) {
 // numerical (t_n, T_n, Q_n), is within the tolerance scale the controller promises.
 TEST(RteConvergence, AdaptiveLocalErrorWithinTolerance) {
   const Slab slab;
-  for (Method m : {Method::kRk12, Method::kBs23, Method::kRkf45, Method::kCashKarp,
-                   Method::kDopri5, Method::kVerner56}) {
+  for (Method m : {Method::kRk12, Method::kBs23, Method::kRkf45, Method::kCashKarp, Method::kDopri5,
+                   Method::kVerner56}) {
     for (double tol : {1e-4, 1e-7}) {
       SolveSettings<double> s;
       s.step = 0.5;
       s.tolerance = tol;
       double worst = 0;
       std::size_t steps = 0;
-      auto observer = [&](double t, double h, const RayState<double>& a, const RayState<double>& b) {
+      auto observer = [&](double t, double h, const RayState<double>& a,
+                          const RayState<double>& b) {
         double T1, Q1;
         slab.exactStep(t, h, a.T[0], a.Q[0], T1, Q1);
         worst = std::max({worst, std::abs(b.T[0] - T1) / (tol * (1 + std::abs(b.T[0]))),

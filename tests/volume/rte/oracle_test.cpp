@@ -17,12 +17,12 @@ namespace {
 
 using namespace test;
 
-constexpr Method kFixed[] = {Method::kEuler,     Method::kRk2,         Method::kRk4,
-                             Method::kAb4,       Method::kBackwardEuler, Method::kTrapezoid,
-                             Method::kTrapezoidPc, Method::kRectangle,  Method::kSimpson};
-constexpr Method kAdaptive[] = {Method::kRk12,     Method::kBs23,   Method::kRkf45,
-                                Method::kCashKarp, Method::kDopri5, Method::kVerner56,
-                                Method::kAdaptiveSimpson, Method::kGaussKronrod};
+constexpr Method kFixed[] = {Method::kEuler,       Method::kRk2,           Method::kRk4,
+                             Method::kAb4,         Method::kBackwardEuler, Method::kTrapezoid,
+                             Method::kTrapezoidPc, Method::kRectangle,     Method::kSimpson};
+constexpr Method kAdaptive[] = {
+    Method::kRk12,   Method::kBs23,     Method::kRkf45,           Method::kCashKarp,
+    Method::kDopri5, Method::kVerner56, Method::kAdaptiveSimpson, Method::kGaussKronrod};
 
 template <class P>
 void checkFixed(const P& p, double d, double lbg, double exact, double step) {

@@ -7,8 +7,8 @@
 #include <complex>
 
 #include "volume/rte/fixed_step.h"
-#include "volume/rte/solve.h"
 #include "volume/rte/rte_oracles.h"
+#include "volume/rte/solve.h"
 
 namespace lvox::rte {
 namespace {
@@ -180,7 +180,8 @@ TEST(RteStability, Ab4MatchesItsRecurrenceFromRk4Start) {
   std::vector<double> y = {1, R4, R4 * R4, R4 * R4 * R4};
   const double hl = -sigma * h;
   for (int k = 4; k <= n; ++k)
-    y.push_back(y[k - 1] + hl / 24 * (55 * y[k - 1] - 59 * y[k - 2] + 37 * y[k - 3] - 9 * y[k - 4]));
+    y.push_back(y[k - 1] +
+                hl / 24 * (55 * y[k - 1] - 59 * y[k - 2] + 37 * y[k - 3] - 9 * y[k - 4]));
   EXPECT_NEAR(r.transmittance[0], y[n], 1e-12);
   EXPECT_EQ(r.counts.stabilityEvents, 0u);
   // RK4 costs 2 evaluations per step (3 bootstrap steps), AB4 one: 1 + 3*2 + 16 - 1.
