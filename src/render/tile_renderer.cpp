@@ -30,36 +30,43 @@ void Progress::finish() {
   if (enabled_) std::fprintf(stderr, "\r\033[K");
 }
 
-Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,
-                  TileStats& stats, const char* label) {
-  Image image(width, height);
+void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
+                     const PixelSampler& sample, TileStats& stats, const char* label) {
   constexpr int kTile = 16;
-  Progress progress(label, static_cast<uint64_t>(width) * height);
+  const int width = sum.width;
+  Progress progress(label, static_cast<uint64_t>(width) * sum.height);
   std::atomic<uint64_t> invalid{0};
   tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, height, kTile, 0, width, kTile),
+      tbb::blocked_range2d<int>(0, sum.height, kTile, 0, width, kTile),
       [&](const tbb::blocked_range2d<int>& tile) {
         uint64_t tileInvalid = 0;
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
           for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
-            Rng rng(seed, static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + x);
-            RGB sum(0.0f);
-            for (int s = 0; s < spp; ++s) {
-              RGB v = sample(x, y, rng);
+            RGB acc(0.0f);
+            for (int s = 0; s < count; ++s) {
+              Rng rng = sampleRng(seed, width, x, y, firstSample + static_cast<uint64_t>(s));
+              const RGB v = sample(x, y, rng);
               if (!isFinite(v) || v.x < 0.0f || v.y < 0.0f || v.z < 0.0f) {
                 ++tileInvalid;
                 continue;
               }
-              sum += v;
+              acc += v;
             }
-            image.at(x, y) = sum / static_cast<float>(spp);
+            sum.at(x, y) += acc;
           }
         invalid += tileInvalid;
         progress.advance(static_cast<uint64_t>(tile.rows().size()) * tile.cols().size());
       });
   progress.finish();
-  stats.samples = static_cast<uint64_t>(width) * height * spp;
-  stats.invalidSamples = invalid.load();
+  stats.samples += static_cast<uint64_t>(width) * sum.height * static_cast<uint64_t>(count);
+  stats.invalidSamples += invalid.load();
+}
+
+Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,
+                  TileStats& stats, const char* label) {
+  Image image(width, height);
+  accumulateTiles(image, 0, spp, seed, sample, stats, label);
+  for (RGB& p : image.pixels) p /= static_cast<float>(spp);
   return image;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
-// Renders an image tile by tile with TBB. Each pixel owns a random stream derived from
-// (seed, pixel index), so the image does not depend on the thread count or the order in
-// which tiles run. Non-finite or negative samples are zeroed and counted: they never
-// reach the image.
+// Renders an image tile by tile with TBB. Every sample owns a random stream derived from
+// (seed, pixel index, sample index), so the image does not depend on the thread count or
+// the order in which tiles run, and samples [a, b) rendered in one run are exactly those
+// of a longer run: progressive passes and chunked references add up to the same image.
+// Non-finite or negative samples are zeroed and counted: they never reach the image.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -31,10 +32,20 @@ class Progress {
   bool enabled_;
 };
 
-// `sample(x, y, rng)` returns one radiance sample of pixel (x, y); it is called spp times
-// per pixel and the mean is stored.
+// `sample(x, y, rng)` returns one radiance sample of pixel (x, y).
 using PixelSampler = std::function<RGB(int x, int y, Rng& rng)>;
 
+// The random stream of one sample.
+inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleIndex) {
+  const uint64_t pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + x;
+  return Rng(seed, (pixel << 32) ^ sampleIndex);
+}
+
+// Adds samples [firstSample, firstSample + count) of every pixel to `sum` (unnormalised).
+void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
+                     const PixelSampler& sample, TileStats& stats, const char* label = "render");
+
+// The mean of samples [0, spp) of every pixel.
 Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,
                   TileStats& stats, const char* label = "render");
 
