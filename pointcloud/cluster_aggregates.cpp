@@ -84,7 +84,7 @@ struct LvoxelSums {
     LvoxelCluster c;
     if (volume <= 0.0f) return c;
     c.centroid = weightedPosition / volume;
-    c.radius = std::cbrt(3.0f * volume / (4.0f * kPi));
+    c.halfSize = 0.5f * std::cbrt(volume);
     c.sigmaT = crossSection / volume;
     for (int k = 0; k < 3; ++k)
       c.sourceRadiance[k] = crossSection[k] > 0.0f ? weightedSource[k] / crossSection[k] : 0.0f;
@@ -126,7 +126,8 @@ void PointCloud::updateAggregates() {
           if (sc.area > 0.0f) ss.cover.extend(sc.cover);
           ss.diskArea += sc.diskArea;
           const LvoxelCluster& lc = lvoxelClusters_[c];
-          const float v = 4.0f / 3.0f * kPi * lc.radius * lc.radius * lc.radius;
+          const float side = 2.0f * lc.halfSize;
+          const float v = side * side * side;
           if (v > 0.0f) ls.add(lc.centroid, v, lc.sigmaT * v, lc.sourceRadiance);
         }
       }
@@ -140,11 +141,19 @@ void PointCloud::updateAggregates() {
         }
       }
       surfelClusters_[i] = ss.finish();
-      // The traversal enters a node only through its bounds: they must hold the cover
-      // box too (it may reach past the disks into the cell's gaps). Bounds only grow,
+      // The traversal enters a node only through its bounds: they must hold the cluster
+      // proxies too (the cover box may reach past the disks into the cell's gaps, the
+      // lvoxel cube of a partly filled node past its lvoxels). Bounds only grow,
       // so repeated updates are idempotent.
       OctreeNode& mutableNode = nodes_[i];
       if (ss.area > 0.0f) mutableNode.bounds.extend(ss.cover);
+      const LvoxelCluster& lc = lvoxelClusters_[i];
+      if (lc.halfSize > 0.0f) {
+        Bounds3 cube;
+        cube.lo = lc.centroid - Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
+        cube.hi = lc.centroid + Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
+        mutableNode.bounds.extend(cube);
+      }
       for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
         mutableNode.bounds.extend(nodes_[c].bounds);
       lvoxelClusters_[i] = ls.finish();

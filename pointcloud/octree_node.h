@@ -53,14 +53,15 @@ struct SurfelCluster {
   }
 };
 
-// A node's lvoxels seen from far away: a homogeneous sphere of the lvoxels' total volume
-// at their extinction-weighted centroid, with the same total extinction cross-section
-// sum(sigma_t V) (so its optical depth integrated over its projected area is exact) and
-// the cross-section-weighted mean source radiance.
+// A node's lvoxels seen from far away: one homogeneous cube of the lvoxels' total volume
+// at their volume-weighted centroid, with the same total extinction cross-section
+// sum(sigma_t V) (so its optical depth integrated over its projected area is exact: the
+// integral of the chord over any projection of a convex body is its volume) and the
+// cross-section-weighted mean source radiance. A full cell's cluster is the cell itself.
 struct LvoxelCluster {
   Vec3 centroid{0, 0, 0};
-  float radius = 0.0f;
-  RGB sigmaT{0, 0, 0};  // cross-section / sphere volume
+  float halfSize = 0.0f;
+  RGB sigmaT{0, 0, 0};  // cross-section / cube volume
   RGB sourceRadiance{0, 0, 0};
 };
 

@@ -1,5 +1,7 @@
 #pragma once
 // Ray tests against single point-cloud elements and cluster proxies.
+#include <algorithm>
+
 #include "src/core/math.h"
 
 namespace lvox {
@@ -18,15 +20,24 @@ inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r,
   return true;
 }
 
-// Chord [t0, t1] of the ray inside a sphere, clipped to [tmin, tmax].
-inline bool intersectSphere(const Ray& ray, const Vec3& c, float r, float& t0, float& t1) {
-  const Vec3 oc = c - ray.origin;
-  const float tc = dot(oc, ray.dir);
-  const float d2 = dot(oc, oc) - tc * tc;
-  if (d2 >= r * r) return false;
-  const float half = std::sqrt(r * r - d2);
-  t0 = std::max(tc - half, ray.tmin);
-  t1 = std::min(tc + half, ray.tmax);
+// Chord [t0, t1] of the ray inside the cube centre +- h, clipped to [tmin, tmax]. A ray
+// parallel to a face and lying exactly in it belongs to the cube on the + side only
+// (half-open), so rays along grid planes are not counted in two neighbouring lvoxels.
+inline bool intersectCube(const Ray& ray, const Vec3& c, float h, float& t0, float& t1) {
+  t0 = ray.tmin;
+  t1 = ray.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const float lo = c[a] - h, hi = c[a] + h;
+    if (ray.dir[a] == 0.0f) {
+      if (ray.origin[a] < lo || ray.origin[a] >= hi) return false;
+      continue;
+    }
+    const float inv = 1.0f / ray.dir[a];
+    float tn = (lo - ray.origin[a]) * inv, tf = (hi - ray.origin[a]) * inv;
+    if (tn > tf) std::swap(tn, tf);
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+  }
   return t1 > t0;
 }
 

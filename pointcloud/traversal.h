@@ -74,7 +74,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, Ray& ray
   if (node.lvoxelEnd > node.lvoxelBegin) {
     const LvoxelCluster& c = pc.lvoxelClusters()[n];
     float t0, t1;
-    if (intersectSphere(ray, c.centroid, c.radius, t0, t1))
+    if (intersectCube(ray, c.centroid, c.halfSize, t0, t1))
       pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
   }
   if (node.surfelEnd > node.surfelBegin) {
@@ -104,12 +104,8 @@ inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& 
   const LvoxelSet& lv = pc.lvoxels();
   for (uint32_t i = node.lvoxelBegin; i < node.lvoxelEnd; ++i) {
     ++s.stats.elementsTested;
-    const float h = lv.halfSize[i];
-    Bounds3 cube;
-    cube.lo = lv.position[i] - Vec3(h, h, h);
-    cube.hi = lv.position[i] + Vec3(h, h, h);
     float t0, t1;
-    if (cube.intersect(ray, t0, t1) && t1 > t0)
+    if (intersectCube(ray, lv.position[i], lv.halfSize[i], t0, t1))
       pushEntry(s.heap, {t0, t0, t1, i, HitKind::Lvoxel, false});
   }
 }

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "pointcloud/gather.h"
 #include "pointcloud/lvoxel_sampler.h"
@@ -13,19 +14,26 @@ namespace {
 struct OpticalDepth {
   const PointCloud& cloud;
   double tau = 0.0;
+  int clusters = 0;
   void surfel(uint32_t, float, bool) {}
   bool surfelCluster(uint32_t, float, bool, float) { return true; }
   bool lvoxel(uint32_t i, float t0, float t1) {
     tau += cloud.lvoxels().sigmaT(i).x * (t1 - t0);
     return true;
   }
-  bool lvoxelCluster(uint32_t, float, float) { return true; }
+  bool lvoxelCluster(uint32_t n, float t0, float t1) {
+    tau += cloud.lvoxelClusters()[n].sigmaT.x * (t1 - t0);
+    ++clusters;
+    return true;
+  }
 };
 
-double opticalDepth(const PointCloud& cloud, const Ray& ray) {
+double opticalDepth(const PointCloud& cloud, const Ray& ray, float maxSolidAngle = 0.0f,
+                    int* clusters = nullptr) {
   OpticalDepth v{cloud};
   TraversalScratch scratch;
-  traverse(cloud, ray, v, TraversalOptions{}, scratch);
+  traverse(cloud, ray, v, TraversalOptions{maxSolidAngle}, scratch);
+  if (clusters) *clusters += v.clusters;
   return v.tau;
 }
 
@@ -75,6 +83,8 @@ TEST(Lvoxels, SlabTransmittanceMatchesBeerLambert) {
     for (float phi : {0.0f, 37.0f}) {
       const double expected = std::exp(-sigmaT * d / std::cos(theta * kPi / 180.0f));
       const double got = std::exp(-opticalDepth(cloud, throughSlabMiddle(middle, theta, phi)));
+      std::printf("slab theta %2.0f phi %2.0f: T %.6f, exp(-tau) %.6f\n", theta, phi, got,
+                  expected);
       EXPECT_NEAR(got / expected, 1.0, 0.02) << "theta " << theta << " phi " << phi;
     }
 }
@@ -95,6 +105,33 @@ TEST(Lvoxels, SlabNotAlignedWithTheGridStaysWithinTheBoundaryCellBound) {
         opticalDepth(cloud, throughSlabMiddle(Vec3(0.01f, 0.02f, 0.2f), theta, 20.0f));
     EXPECT_NEAR(got, tau, 0.015 / std::cos(theta * kPi / 180.0f) + 1e-3) << theta;
   }
+}
+
+TEST(Lvoxels, ClustersConserveTheExtinctionCrossSection) {
+  // Seen from afar (clusters on), a fog block is a set of homogeneous spheres with the
+  // same sum(sigma_t V): the optical depth integrated over a dense grid of parallel rays,
+  // sum(tau) dA, equals sigma_t * V of the block both ways. 1%: the midpoint rule over the
+  // 0.01-spaced ray grid across 0.0625-sized lvoxels and spheres. Some rays run exactly
+  // along the cubes' shared faces (y = 0.125, 0.375): each must count once.
+  const test::BoxMedium m(Vec3(0, 0, 0), Vec3(0.5f, 0.5f, 0.5f), RGB(0.0f), RGB(0.4f));
+  const PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.0625f}));
+  const double expected = 0.4 * 0.125;  // sigma_t * V
+  const float h = 0.01f;
+  double exact = 0.0, lod = 0.0;
+  int clusters = 0;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j) {
+      const Vec3 o(-0.25f + (static_cast<float>(i) + 0.5f) * h,
+                   -0.25f + (static_cast<float>(j) + 0.5f) * h, -40.0f);
+      const Ray ray{o, Vec3(0, 0, 1), 0.0f, kInf};
+      exact += opticalDepth(cloud, ray) * h * h;
+      lod += opticalDepth(cloud, ray, 0.01f, &clusters) * h * h;
+    }
+  std::printf("cross-section: exact %.5f, clusters %.5f (of sigma_t V)\n", exact / expected,
+              lod / expected);
+  EXPECT_NEAR(exact / expected, 1.0, 0.01);
+  EXPECT_NEAR(lod / expected, 1.0, 0.01);
+  EXPECT_GT(clusters, 1000);  // the far rays really went through cluster spheres
 }
 
 TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
