@@ -71,6 +71,32 @@ inline std::vector<uint8_t> activeCells(const LvoxelGrid& g, const std::vector<B
   return active;
 }
 
+// Non-negative, finite coefficients: a broken medium must not put NaN into the cloud.
+inline RGB sanitized(const RGB& c) {
+  auto f = [](float v) { return std::isfinite(v) && v > 0.0f ? v : 0.0f; };
+  return {f(c.x), f(c.y), f(c.z)};
+}
+
+// Mean of m^3 jittered (stratified) samples of the coefficients over the cube at `lo`.
+template <class Medium>
+void averageCoefficients(const Medium& medium, const Vec3& lo, float spacing, int m, Rng& rng,
+                         RGB& sigmaA, RGB& sigmaS) {
+  const float fm = static_cast<float>(m);
+  RGB sumA(0.0f), sumS(0.0f);
+  for (int s = 0; s < m * m * m; ++s) {
+    const Vec3 unit((static_cast<float>(s % m) + rng.uniform()) / fm,
+                    (static_cast<float>((s / m) % m) + rng.uniform()) / fm,
+                    (static_cast<float>(s / (m * m)) + rng.uniform()) / fm);
+    RGB a(0.0f), sc(0.0f);
+    medium.coefficients(lo + unit * spacing, a, sc);
+    sumA += sanitized(a);
+    sumS += sanitized(sc);
+  }
+  const float inv = 1.0f / (fm * fm * fm);
+  sigmaA = sumA * inv;
+  sigmaS = sumS * inv;
+}
+
 }  // namespace detail
 
 // Cells where the averaged sigma_t is zero in every channel are dropped. The result is
@@ -92,7 +118,6 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
                      "too small for the medium: more than maxLvoxels cells");
   const std::vector<uint8_t> active = detail::activeCells(grid, medium.activeBoxes());
   const int m = settings.samplesPerAxis;
-  const float inv = 1.0f / static_cast<float>(m * m * m);
   const float h = 0.5f * settings.spacing;
 
   // One slice of cells (fixed k) per task; slices are concatenated in order.
@@ -107,19 +132,8 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
                         Vec3(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k)) *
                             settings.spacing;
         Rng rng(settings.seed, cell);
-        RGB sumA(0.0f), sumS(0.0f);
-        for (int s = 0; s < m * m * m; ++s) {
-          // Jittered (stratified) positions over the cube.
-          const Vec3 cellUnit(
-              (static_cast<float>(s % m) + rng.uniform()) / static_cast<float>(m),
-              (static_cast<float>((s / m) % m) + rng.uniform()) / static_cast<float>(m),
-              (static_cast<float>(s / (m * m)) + rng.uniform()) / static_cast<float>(m));
-          RGB a(0.0f), sc(0.0f);
-          medium.coefficients(lo + cellUnit * settings.spacing, a, sc);
-          sumA += a;
-          sumS += sc;
-        }
-        const RGB sigmaA = sumA * inv, sigmaS = sumS * inv;
+        RGB sigmaA, sigmaS;
+        detail::averageCoefficients(medium, lo, settings.spacing, m, rng, sigmaA, sigmaS);
         if (isBlack(sigmaA + sigmaS)) continue;
         slice.position.push_back(lo + Vec3(h, h, h));
         slice.halfSize.push_back(h);

@@ -55,6 +55,29 @@ TEST(Lvoxels, NoMediumNoLvoxels) {
   EXPECT_EQ(cloud.memoryBytes(), 0u);
 }
 
+// A broken medium: NaN absorption and negative scattering where x < 0.5.
+struct BrokenMedium : test::BoxMedium {
+  BrokenMedium() : BoxMedium(Vec3(0, 0, 0), Vec3(1, 1, 1), RGB(1.0f), RGB(1.0f)) {}
+  void coefficients(const Vec3& p, RGB& a, RGB& s) const {
+    BoxMedium::coefficients(p, a, s);
+    if (p.x < 0.5f) {
+      a = RGB(std::nanf(""), 1.0f, 1.0f);
+      s = RGB(-1.0f, 1.0f, 1.0f);
+    }
+  }
+};
+
+TEST(Lvoxels, NonFiniteOrNegativeCoefficientsBecomeZero) {
+  const LvoxelSet l = sampleLvoxels(BrokenMedium{}, {0.25f});
+  ASSERT_EQ(l.size(), 64u);
+  for (size_t i = 0; i < l.size(); ++i) {
+    const bool broken = l.position[i].x < 0.5f;
+    EXPECT_FLOAT_EQ(l.sigmaA[i].x, broken ? 0.0f : 1.0f);
+    EXPECT_FLOAT_EQ(l.sigmaS[i].x, broken ? 0.0f : 1.0f);
+    EXPECT_FLOAT_EQ(l.sigmaA[i].y, 1.0f);
+  }
+}
+
 TEST(Lvoxels, CoefficientsAreAveragedOverTheCube) {
   // The medium fills exactly the lower half (in x) of the last cell column: 2x2x2
   // stratified samples put 4 of 8 samples inside, so the average is exactly half.
