@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "pointcloud/scenes.h"
 #include "pointcloud/surfel_sampler.h"
@@ -95,10 +96,45 @@ TEST(SurfelSampler, CameraSurfelsCoverTheVisibleAreaOnce) {
   }
   // Footprints tile the image plane: the represented area equals the visible area up to
   // the ceil() of the ray grid (< 1%) and the cos^3 approximation per ray (< 0.5%).
+  std::printf("frontal quad: footprints / visible area = %.4f\n", area / (visibleW * visibleH));
   EXPECT_NEAR(area / (visibleW * visibleH), 1.0, 0.02);
   const SurfelSet again = sampleSurfelsFromCamera(tracer, whiteMaterial(), cam, settings);
   ASSERT_EQ(again.size(), s.size());
   for (size_t i = 0; i < s.size(); ++i) ASSERT_EQ(again.position[i], s.position[i]);
+}
+
+TEST(SurfelSampler, CameraFootprintsOnAnObliqueFloorAddUpToItsVisibleArea) {
+  // Camera 2 above a large floor looking down at 40 degrees: the widened frustum's
+  // footprint is the quadrilateral where its corner rays meet the floor. The footprints
+  // (solid angle cos^3 * t^2 / cos theta) must add up to its area; 2%: the ceil() of the
+  // ray grid and the per-ray linearisation of a footprint that grows across the image.
+  TriangleMesh mesh;
+  test::addQuad(mesh, Vec3(-50, 0, -50), Vec3(-50, 0, 50), Vec3(50, 0, 50), Vec3(50, 0, -50), 0);
+  RayTracer tracer(mesh);
+  Camera cam;
+  cam.position = Vec3(0, 2, 0);
+  cam.lookAt = Vec3(0, 2.0f - std::tan(40.0f * kPi / 180.0f), 1.0f);
+  cam.vfovDeg = 20.0f;
+  cam.width = 40;
+  cam.height = 30;
+  const SurfelSet s = sampleSurfelsFromCamera(tracer, whiteMaterial(), cam, {});
+  double area = 0.0;
+  for (size_t i = 0; i < s.size(); ++i) area += s.representedArea(i);
+  // Corners of the ray grid: it spans [-0.05 W, 1.05 W] x [-0.05 H, 1.05 H] (rounded up).
+  const float x1 = -0.05f * 40 + std::ceil(40 * 2 * 1.1f) / 2.0f;
+  const float y1 = -0.05f * 30 + std::ceil(30 * 2 * 1.1f) / 2.0f;
+  const float xs[4] = {-2.0f, x1, x1, -2.0f}, ys[4] = {-1.5f, -1.5f, y1, y1};
+  double shoelace = 0.0;
+  Vec3 q[4];
+  for (int k = 0; k < 4; ++k) {
+    const Ray r = cam.generateRay(xs[k], ys[k]);
+    ASSERT_LT(r.dir.y, 0.0f);
+    q[k] = r.at(-r.origin.y / r.dir.y);
+  }
+  for (int k = 0; k < 4; ++k) shoelace += q[k].x * q[(k + 1) % 4].z - q[(k + 1) % 4].x * q[k].z;
+  std::printf("oblique floor: footprints / visible area = %.4f\n",
+              area / (0.5 * std::abs(shoelace)));
+  EXPECT_NEAR(area / (0.5 * std::abs(shoelace)), 1.0, 0.02);
 }
 
 }  // namespace
