@@ -97,7 +97,9 @@ void BM_PointCloudOctreeBuild(benchmark::State& state) {
     SurfelSet sc = s;
     LvoxelSet lc = l;
     state.ResumeTiming();
-    const PointCloud pc(std::move(sc), std::move(lc));
+    OctreeSettings settings;
+    settings.leafSize = static_cast<uint32_t>(state.range(0));
+    const PointCloud pc(std::move(sc), std::move(lc), settings);
     nodes = pc.nodes().size();
     bytes = pc.memoryBytes();
   }
@@ -107,7 +109,8 @@ void BM_PointCloudOctreeBuild(benchmark::State& state) {
   state.counters["bytes"] = static_cast<double>(bytes);
   state.SetItemsProcessed(static_cast<int64_t>(s.size() + l.size()) * state.iterations());
 }
-BENCHMARK(BM_PointCloudOctreeBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+// arg = leaf size
+BENCHMARK(BM_PointCloudOctreeBuild)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // One thread, 128-ray gathers at random floor points; arg = max solid angle * 1000.
 void BM_PointCloudGather(benchmark::State& state) {
