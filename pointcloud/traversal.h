@@ -17,6 +17,7 @@
 //   bool lvoxelCluster(uint32_t node, float t0, float t1);  // false stops
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "pointcloud/point_cloud.h"
@@ -68,7 +69,7 @@ inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOp
   return d2 > 4.0f * r2 && kPi * r2 < o.maxSolidAngle * d2;
 }
 
-inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, Ray& ray,
+inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ray& ray,
                          std::vector<TraversalEntry>& heap) {
   const OctreeNode& node = pc.nodes()[n];
   if (node.lvoxelEnd > node.lvoxelBegin) {
