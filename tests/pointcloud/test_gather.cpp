@@ -161,6 +161,30 @@ TEST(Gather, InScatterThroughAbsorbingMediumInAClosedBox) {
   EXPECT_NEAR(sum.x / 4.0 / expected, 1.0, 0.02);
 }
 
+TEST(Gather, WallSeenThroughAGlowingSlab) {
+  // A wall of radiance 1 (z = 1) behind a slab z in [0.25, 0.75] with sigma_a = sigma_s =
+  // 0.5 whose cached in-scatter is 0.4: source radiance J = 0.5 * 0.4 = 0.2 and the RTE
+  // gives L = T + J (1 - T), T = exp(-sigma_t * 0.5 / cos theta), along every ray.
+  TriangleMesh mesh;
+  test::addQuad(mesh, Vec3(-3, -3, 1), Vec3(3, -3, 1), Vec3(3, 3, 1), Vec3(-3, 3, 1), 0);
+  const test::BoxMedium slab(Vec3(-3, -3, 0.25f), Vec3(3, 3, 0.75f), RGB(0.5f), RGB(0.5f));
+  LvoxelSettings ls;
+  ls.spacing = 0.125f;
+  PointCloud pc(sampleSurfelsUniform(mesh, {Material{}}, {0.05f, 1.15f, 2}),
+                sampleLvoxels(slab, ls));
+  cacheDirectLight(
+      pc, [](const SurfelLightQuery&) { return RGB(1.0f); },
+      [](const LvoxelLightQuery&) { return RGB(0.4f); });
+  TraversalScratch scratch;
+  for (float theta : {0.0f, 25.0f, 50.0f}) {
+    const float th = theta * kPi / 180.0f;
+    const Ray ray{Vec3(0.03f, -0.02f, 0.0f), Vec3(std::sin(th), 0.0f, std::cos(th)), 1e-4f, kInf};
+    const RGB l = gatherRay(pc, ray, GatherOptions{}, scratch);
+    const float t = std::exp(-1.0f * 0.5f / std::cos(th));
+    EXPECT_NEAR(l.x, t + 0.2f * (1.0f - t), 1e-4f) << theta;
+  }
+}
+
 TEST(Gather, MultipleScatteringCacheFillsLvoxels) {
   // Lvoxels in the furnace box with albedo 1 and no direct light: one bounce gathers the
   // walls' radiance 1 attenuated by the medium plus nothing else, so 0 < L_s < 1; a second
