@@ -9,7 +9,7 @@
 namespace lvox {
 
 struct OctreeNode {
-  Bounds3 bounds;  // loose: contains every element's full extent (disk or cube)
+  Bounds3 bounds;  // loose: every element's full extent (disk or cube) and the cluster proxies
   uint32_t childBegin = 0;
   uint32_t surfelBegin = 0, surfelEnd = 0;
   uint32_t lvoxelBegin = 0, lvoxelEnd = 0;
@@ -19,8 +19,10 @@ struct OctreeNode {
 };
 
 // A node's surfels seen from far away, without spherical harmonics: a partly covering box.
-// `cover` is the union of each surfel's equal-area square (side sqrt(area), tilted like
-// the disk), so the cover boxes of neighbouring clusters on one surface nearly tile it.
+// `cover` is the union of squares of side 2 sqrt(area) around the surfels (tilted like
+// the disks; twice the equal-area side so they reach the cell walls between lattice
+// rows), clipped to the node's octree cell: the cover boxes of neighbouring clusters on
+// one surface then nearly tile it.
 // A ray crossing the box is blocked with probability (coverage) blocking(d) / boxArea(d),
 // capped at 1: the projected area of the cluster's disks, D * sqrt(d^T M d) (D = sum of
 // disk areas pi r^2, M = area-weighted mean of n n^T, exact for a flat cluster) over the
