@@ -1,0 +1,164 @@
+// Bottom-up cluster aggregates (the level of detail used by distant gathers).
+#include <tbb/parallel_for.h>
+
+#include "pointcloud/point_cloud.h"
+
+namespace lvox {
+
+namespace {
+
+struct SurfelSums {
+  Bounds3 cover;
+  float diskArea = 0.0f;
+  Vec3 weightedPosition{0, 0, 0};
+  float area = 0.0f;
+  Vec3 reference{0, 0, 0};  // normals are flipped into the hemisphere around this
+  Vec3 weightedNormal{0, 0, 0};
+  float moment[6] = {0, 0, 0, 0, 0, 0};
+  RGB front{0, 0, 0}, back{0, 0, 0};  // area-weighted radiance, sides w.r.t. reference
+
+  // Adds a disk (or a child cluster) of `area` with unit normal n whose side along n has
+  // radiance lf, and moments m (already area weighted).
+  void add(const Vec3& p, float a, const Vec3& n, const RGB& lf, const RGB& lb, const float* m) {
+    if (a <= 0.0f) return;
+    if (area == 0.0f) reference = n;
+    const bool flip = dot(n, reference) < 0.0f;
+    weightedPosition += p * a;
+    area += a;
+    weightedNormal += (flip ? -n : n) * a;
+    for (int k = 0; k < 6; ++k) moment[k] += m[k];
+    front += (flip ? lb : lf) * a;
+    back += (flip ? lf : lb) * a;
+  }
+  SurfelCluster finish() const {
+    SurfelCluster c;
+    if (area <= 0.0f) return c;
+    c.cover = cover;
+    c.diskArea = diskArea;
+    c.centroid = weightedPosition / area;
+    c.area = area;
+    const float len = length(weightedNormal);
+    c.axis = len > 0.0f ? weightedNormal / len : reference;
+    for (int k = 0; k < 6; ++k) c.moment[k] = moment[k] / area;
+    c.radianceFront = front / area;
+    c.radianceBack = back / area;
+    return c;
+  }
+};
+
+// Bounds of a square of side `side` in the plane normal to n, approximated like a disk's
+// (half extent side/2 * sqrt(1 - n_a^2) per axis): exact for axis-aligned surfaces.
+Bounds3 squareBounds(const Vec3& p, const Vec3& n, float side) {
+  const float h = 0.5f * side;
+  const Vec3 e(h * std::sqrt(std::max(0.0f, 1.0f - n.x * n.x)),
+               h * std::sqrt(std::max(0.0f, 1.0f - n.y * n.y)),
+               h * std::sqrt(std::max(0.0f, 1.0f - n.z * n.z)));
+  Bounds3 b;
+  b.lo = p - e;
+  b.hi = p + e;
+  return b;
+}
+
+void diskMoment(const Vec3& n, float a, float* m) {
+  m[0] = a * n.x * n.x;
+  m[1] = a * n.y * n.y;
+  m[2] = a * n.z * n.z;
+  m[3] = a * n.x * n.y;
+  m[4] = a * n.x * n.z;
+  m[5] = a * n.y * n.z;
+}
+
+struct LvoxelSums {
+  float volume = 0.0f;
+  Vec3 weightedPosition{0, 0, 0};
+  RGB crossSection{0, 0, 0};  // sum sigma_t V
+  RGB weightedSource{0, 0, 0};
+
+  void add(const Vec3& p, float v, const RGB& xs, const RGB& source) {
+    volume += v;
+    weightedPosition += p * v;
+    crossSection += xs;
+    weightedSource += xs * source;
+  }
+  LvoxelCluster finish() const {
+    LvoxelCluster c;
+    if (volume <= 0.0f) return c;
+    c.centroid = weightedPosition / volume;
+    c.halfSize = 0.5f * std::cbrt(volume);
+    c.sigmaT = crossSection / volume;
+    for (int k = 0; k < 3; ++k)
+      c.sourceRadiance[k] = crossSection[k] > 0.0f ? weightedSource[k] / crossSection[k] : 0.0f;
+    return c;
+  }
+};
+
+}  // namespace
+
+void PointCloud::updateAggregates() {
+  surfelClusters_.assign(nodes_.size(), SurfelCluster{});
+  lvoxelClusters_.assign(nodes_.size(), LvoxelCluster{});
+  if (nodes_.empty()) return;
+  for (size_t level = levelBegin_.size() - 1; level-- > 0;) {
+    tbb::parallel_for(levelBegin_[level], levelBegin_[level + 1], [&](uint32_t i) {
+      const OctreeNode& node = nodes_[i];
+      SurfelSums ss;
+      LvoxelSums ls;
+      float m[6];
+      if (node.isLeaf()) {
+        for (uint32_t s = node.surfelBegin; s < node.surfelEnd; ++s) {
+          const float a = surfels_.representedArea(s);
+          diskMoment(surfels_.normal[s], a, m);
+          ss.add(surfels_.position[s], a, surfels_.normal[s], surfels_.radianceFront[s],
+                 surfels_.radianceBack[s], m);
+          ss.cover.extend(
+              squareBounds(surfels_.position[s], surfels_.normal[s], 2.0f * std::sqrt(a)));
+          ss.diskArea += kPi * surfels_.radius[s] * surfels_.radius[s];
+        }
+        for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l) {
+          const float v = lvoxels_.volume(l);
+          ls.add(lvoxels_.position[l], v, lvoxels_.sigmaT(l) * v, lvoxels_.sourceRadiance(l));
+        }
+      } else {
+        for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
+          const SurfelCluster& sc = surfelClusters_[c];
+          for (int k = 0; k < 6; ++k) m[k] = sc.moment[k] * sc.area;
+          ss.add(sc.centroid, sc.area, sc.axis, sc.radianceFront, sc.radianceBack, m);
+          if (sc.area > 0.0f) ss.cover.extend(sc.cover);
+          ss.diskArea += sc.diskArea;
+          const LvoxelCluster& lc = lvoxelClusters_[c];
+          const float side = 2.0f * lc.halfSize;
+          const float v = side * side * side;
+          if (v > 0.0f) ls.add(lc.centroid, v, lc.sigmaT * v, lc.sourceRadiance);
+        }
+      }
+      if (node.isLeaf()) {
+        // Clip the squares to the node's cell: cover boxes of one level then tile a
+        // surface instead of overlapping where neighbouring squares stick out.
+        const Bounds3& cell = cells_[i];
+        for (int a = 0; a < 3; ++a) {
+          ss.cover.lo[a] = std::max(ss.cover.lo[a], cell.lo[a]);
+          ss.cover.hi[a] = std::min(ss.cover.hi[a], cell.hi[a]);
+        }
+      }
+      surfelClusters_[i] = ss.finish();
+      // The traversal enters a node only through its bounds: they must hold the cluster
+      // proxies too (the cover box may reach past the disks into the cell's gaps, the
+      // lvoxel cube of a partly filled node past its lvoxels). Bounds only grow,
+      // so repeated updates are idempotent.
+      OctreeNode& mutableNode = nodes_[i];
+      if (ss.area > 0.0f) mutableNode.bounds.extend(ss.cover);
+      const LvoxelCluster& lc = lvoxelClusters_[i];
+      if (lc.halfSize > 0.0f) {
+        Bounds3 cube;
+        cube.lo = lc.centroid - Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
+        cube.hi = lc.centroid + Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
+        mutableNode.bounds.extend(cube);
+      }
+      for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
+        mutableNode.bounds.extend(nodes_[c].bounds);
+      lvoxelClusters_[i] = ls.finish();
+    });
+  }
+}
+
+}  // namespace lvox

@@ -1,0 +1,80 @@
+#pragma once
+// Direct-light cache (phase 1, Gibson 2011 4.1): every surfel and lvoxel stores the
+// light it receives straight from the light sources, computed by the caller's closures
+// (the renderer's shadow-ray code), in parallel; then the cluster aggregates are rebuilt.
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
+#include "pointcloud/gather.h"
+
+namespace lvox {
+
+struct SurfelLightQuery {
+  uint32_t index;  // in the cloud's (octree) order
+  Vec3 position;
+  Vec3 normal;  // the side being lit: the surfel's normal or its negation
+  RGB albedo;
+  uint32_t triangle;
+};
+
+struct LvoxelLightQuery {
+  uint32_t index;
+  Vec3 position;
+  float halfSize;
+  RGB sigmaA, sigmaS;
+};
+
+// surfelRadiance(const SurfelLightQuery&) -> RGB: outgoing radiance [W/(m^2 sr)] of the
+//   side `normal` points to, e.g. albedo/pi * sum of unoccluded light * cos (+ emission).
+//   Called once per side (surfaces are two-sided).
+// lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights,
+//   integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a point light:
+//   phase * I * Tr / d^2), WITHOUT the sigma_s factor.
+template <class SurfelFn, class LvoxelFn>
+void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
+                      const LvoxelFn& lvoxelInScatter) {
+  SurfelSet& s = cloud.mutableSurfels();
+  tbb::parallel_for(size_t(0), s.size(), [&](size_t i) {
+    const auto idx = static_cast<uint32_t>(i);
+    const RGB front = surfelRadiance(
+        SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
+    const RGB back = surfelRadiance(
+        SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
+    s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
+    s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
+  });
+  LvoxelSet& l = cloud.mutableLvoxels();
+  tbb::parallel_for(size_t(0), l.size(), [&](size_t i) {
+    const RGB in = lvoxelInScatter(LvoxelLightQuery{static_cast<uint32_t>(i), l.position[i],
+                                                    l.halfSize[i], l.sigmaA[i], l.sigmaS[i]});
+    l.directInScatter[i] = isFinite(in) ? in : RGB(0.0f);
+  });
+  cloud.updateAggregates();
+}
+
+// Multiple scattering between lvoxels: `bounces` Jacobi passes, each gathering the
+// in-scattered radiance at every lvoxel centre from the cloud as it stands (surfels'
+// cached radiance plus the lvoxels' current sources) into multiScatter. One pass adds
+// the light scattered once more by the medium and the light from lit surfels.
+template <class Phase>
+void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const GatherOptions& options,
+                             int bounces, uint64_t seed) {
+  LvoxelSet& l = cloud.mutableLvoxels();
+  std::vector<RGB> next(l.size());
+  for (int b = 0; b < bounces; ++b) {
+    tbb::parallel_for(size_t(0), l.size(), [&](size_t i) {
+      Rng rng(seed, (static_cast<uint64_t>(b) << 40) ^ i);
+      TraversalScratch scratch;
+      // Isotropic cache: the viewer direction is irrelevant for isotropic phases and is
+      // fixed to +z otherwise (the cache stores no directional dependence).
+      const RGB in =
+          gatherInScatter(cloud, l.position[i], Vec3(0, 0, 1), phase, options, rng, scratch);
+      next[i] = isFinite(in) ? in : RGB(0.0f);
+    });
+    l.multiScatter = next;
+    cloud.updateAggregates();
+  }
+}
+
+}  // namespace lvox

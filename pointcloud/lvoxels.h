@@ -1,0 +1,49 @@
+#pragma once
+// Lvoxels (Gibson 2011): small cells of participating medium with averaged coefficients
+// and cached in-scattered light. An lvoxel is the axis-aligned cube of side 2*halfSize
+// around its position: cubes of one grid tile space, so the optical depth summed over
+// the lvoxels a ray crosses equals the optical depth of the averaged medium (see
+// docs/pointcloud.md, "slab transmittance").
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "src/core/math.h"
+
+namespace lvox {
+
+struct LvoxelSet {
+  std::vector<Vec3> position;  // cube centre
+  std::vector<float> halfSize;
+  std::vector<RGB> sigmaA;  // 1/unit, averaged over the cube
+  std::vector<RGB> sigmaS;
+  // In-scattered radiance L_s = integral of phase * L_i over the sphere, W/(m^2 sr):
+  // the lvoxel's volume source is sigma_s * (directInScatter + multiScatter).
+  std::vector<RGB> directInScatter;  // filled by cacheDirectLight
+  std::vector<RGB> multiScatter;     // filled by cacheMultipleScattering (or the caller)
+
+  size_t size() const { return position.size(); }
+  RGB sigmaT(size_t i) const { return sigmaA[i] + sigmaS[i]; }
+  float volume(size_t i) const {
+    const float e = 2.0f * halfSize[i];
+    return e * e * e;
+  }
+  // Radiance the lvoxel sends along any ray (isotropic source): sigma_s/sigma_t * L_s.
+  RGB sourceRadiance(size_t i) const;
+  void resize(size_t n) {
+    position.resize(n);
+    halfSize.resize(n);
+    sigmaA.resize(n);
+    sigmaS.resize(n);
+    directInScatter.assign(n, RGB(0.0f));
+    multiScatter.assign(n, RGB(0.0f));
+  }
+  void append(const LvoxelSet& other);
+  static constexpr size_t bytesPerElement() {
+    return sizeof(Vec3) + sizeof(float) + 4 * sizeof(RGB);
+  }
+  size_t memoryBytes() const { return size() * bytesPerElement(); }
+  void permute(const std::vector<uint32_t>& order);
+};
+
+}  // namespace lvox

@@ -1,0 +1,67 @@
+#pragma once
+// The point cloud of the two-phase renderer: surfels and lvoxels in ONE octree (Gibson
+// 2011). Construction sorts the elements along a Morton curve and reorders both sets in
+// that order, so element indices change: use the cloud's own sets after construction.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "pointcloud/lvoxels.h"
+#include "pointcloud/octree_node.h"
+#include "pointcloud/surfels.h"
+
+namespace lvox {
+
+struct OctreeSettings {
+  uint32_t leafSize = 8;   // a node with more elements is split ...
+  uint32_t maxDepth = 20;  // ... unless it is this deep (coincident points)
+};
+
+struct PointCloudMemory {
+  size_t surfelBytes = 0, lvoxelBytes = 0, octreeBytes = 0;
+  size_t total() const { return surfelBytes + lvoxelBytes + octreeBytes; }
+};
+
+class PointCloud {
+ public:
+  PointCloud() = default;
+  // Builds the octree in parallel (deterministic) and the cluster aggregates.
+  PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings = {});
+
+  const SurfelSet& surfels() const { return surfels_; }
+  const LvoxelSet& lvoxels() const { return lvoxels_; }
+  // Mutable access is for the light caches only (positions must not move); call
+  // updateAggregates() after changing radiance or in-scatter.
+  SurfelSet& mutableSurfels() { return surfels_; }
+  LvoxelSet& mutableLvoxels() { return lvoxels_; }
+
+  const std::vector<OctreeNode>& nodes() const { return nodes_; }
+  const std::vector<SurfelCluster>& surfelClusters() const { return surfelClusters_; }
+  const std::vector<LvoxelCluster>& lvoxelClusters() const { return lvoxelClusters_; }
+  bool empty() const { return nodes_.empty(); }
+  // Depth of the deepest leaf (root = 0).
+  uint32_t depth() const { return empty() ? 0 : static_cast<uint32_t>(levelBegin_.size()) - 2; }
+
+  // Recomputes the cluster aggregates bottom-up (parallel per level).
+  void updateAggregates();
+
+  PointCloudMemory memory() const;
+  size_t memoryBytes() const { return memory().total(); }
+  static constexpr size_t bytesPerNode() {
+    return sizeof(OctreeNode) + sizeof(Bounds3) + sizeof(SurfelCluster) + sizeof(LvoxelCluster);
+  }
+
+ private:
+  void build(const OctreeSettings& settings);
+  void computeBounds();
+
+  SurfelSet surfels_;
+  LvoxelSet lvoxels_;
+  std::vector<OctreeNode> nodes_;
+  std::vector<Bounds3> cells_;        // each node's exact octree cell (cells of a level tile space)
+  std::vector<uint32_t> levelBegin_;  // nodes of depth d are [levelBegin_[d], levelBegin_[d+1])
+  std::vector<SurfelCluster> surfelClusters_;
+  std::vector<LvoxelCluster> lvoxelClusters_;
+};
+
+}  // namespace lvox

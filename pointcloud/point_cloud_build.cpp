@@ -1,0 +1,196 @@
+// Octree construction: Morton sort of all element centres, then a breadth-first split on
+// the Morton bits, one parallel pass per level, so node indices are deterministic.
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+
+#include "pointcloud/element_bounds.h"
+#include "pointcloud/point_cloud.h"
+
+namespace lvox {
+
+namespace {
+
+constexpr uint32_t kMortonBits = 21;  // per axis; 63-bit codes
+constexpr uint32_t kMaxDepth = kMortonBits;
+
+uint64_t spreadBits(uint32_t v) {
+  uint64_t x = v & 0x1fffffu;
+  x = (x | x << 32) & 0x1f00000000ffffull;
+  x = (x | x << 16) & 0x1f0000ff0000ffull;
+  x = (x | x << 8) & 0x100f00f00f00f00full;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+  x = (x | x << 2) & 0x1249249249249249ull;
+  return x;
+}
+
+struct MortonKey {
+  uint64_t code;
+  uint32_t element;  // surfels first, then lvoxels
+  bool operator<(const MortonKey& o) const {
+    return code != o.code ? code < o.code : element < o.element;
+  }
+};
+
+// Root cube around the element centres: a cube keeps octants cubic (non-cubic cells give
+// elongated, gappy clusters, as Aqsis notes).
+struct MortonFrame {
+  Vec3 lo;
+  float scale;
+  uint64_t code(const Vec3& p) const {
+    uint32_t q[3];
+    for (int a = 0; a < 3; ++a) {
+      const float f = std::clamp((p[a] - lo[a]) * scale, 0.0f, float((1u << kMortonBits) - 1));
+      q[a] = static_cast<uint32_t>(f);
+    }
+    return spreadBits(q[0]) << 2 | spreadBits(q[1]) << 1 | spreadBits(q[2]);
+  }
+};
+
+MortonFrame mortonFrame(const SurfelSet& s, const LvoxelSet& l) {
+  Bounds3 b;
+  for (const Vec3& p : s.position) b.extend(p);
+  for (const Vec3& p : l.position) b.extend(p);
+  const Vec3 d = b.diagonal();
+  const float extent = std::max({d.x, d.y, d.z, 1e-20f}) * 1.0001f;
+  return {b.lo, float((1u << kMortonBits) - 1) / extent};
+}
+
+struct Range {
+  uint32_t begin, end;
+  uint32_t octant = 0;
+};
+
+// The octant's half of the parent cell; bit order as in MortonFrame::code (x, y, z).
+Bounds3 childCell(const Bounds3& parent, uint32_t octant) {
+  const Vec3 mid = parent.center();
+  Bounds3 c = parent;
+  for (int a = 0; a < 3; ++a) {
+    if ((octant >> (2 - a)) & 1u)
+      c.lo[a] = mid[a];
+    else
+      c.hi[a] = mid[a];
+  }
+  return c;
+}
+
+}  // namespace
+
+PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings)
+    : surfels_(std::move(surfels)), lvoxels_(std::move(lvoxels)) {
+  build(settings);
+  computeBounds();
+  updateAggregates();
+}
+
+void PointCloud::build(const OctreeSettings& settings) {
+  const auto ns = static_cast<uint32_t>(surfels_.size());
+  const auto n = ns + static_cast<uint32_t>(lvoxels_.size());
+  if (n == 0) return;
+  const MortonFrame frame = mortonFrame(surfels_, lvoxels_);
+  std::vector<MortonKey> keys(n);
+  tbb::parallel_for(uint32_t(0), n, [&](uint32_t e) {
+    keys[e] = {frame.code(e < ns ? surfels_.position[e] : lvoxels_.position[e - ns]), e};
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+
+  // Reorder both sets along the curve; surfelsBefore[k] = surfels among keys[0, k).
+  std::vector<uint32_t> surfelOrder, lvoxelOrder;
+  std::vector<uint32_t> surfelsBefore(n + 1, 0);
+  surfelOrder.reserve(ns);
+  lvoxelOrder.reserve(n - ns);
+  for (uint32_t k = 0; k < n; ++k) {
+    const bool isSurfel = keys[k].element < ns;
+    if (isSurfel)
+      surfelOrder.push_back(keys[k].element);
+    else
+      lvoxelOrder.push_back(keys[k].element - ns);
+    surfelsBefore[k + 1] = surfelsBefore[k] + (isSurfel ? 1 : 0);
+  }
+  surfels_.permute(surfelOrder);
+  lvoxels_.permute(lvoxelOrder);
+
+  const uint32_t leafSize = std::max(1u, settings.leafSize);
+  const uint32_t maxDepth = std::min(settings.maxDepth, kMaxDepth);
+  auto makeNode = [&](Range r) {
+    OctreeNode node;
+    node.surfelBegin = surfelsBefore[r.begin];
+    node.surfelEnd = surfelsBefore[r.end];
+    node.lvoxelBegin = r.begin - surfelsBefore[r.begin];
+    node.lvoxelEnd = r.end - surfelsBefore[r.end];
+    return node;
+  };
+
+  std::vector<Range> ranges{{0, n}};
+  nodes_.assign(1, makeNode(ranges[0]));
+  Bounds3 root;
+  root.lo = frame.lo;
+  root.hi = frame.lo + Vec3(1.0f, 1.0f, 1.0f) * (float(1u << kMortonBits) / frame.scale);
+  cells_.assign(1, root);
+  levelBegin_.assign(1, 0);
+  uint32_t begin = 0, end = 1;
+  for (uint32_t depth = 0; begin < end; ++depth) {
+    levelBegin_.push_back(end);
+    const uint32_t count = end - begin;
+    std::vector<std::array<Range, 8>> children(count);
+    std::vector<uint32_t> childCounts(count, 0);
+    const int shift = 3 * static_cast<int>(kMortonBits - 1 - std::min(depth, kMortonBits - 1));
+    tbb::parallel_for(uint32_t(0), count, [&](uint32_t i) {
+      const Range r = ranges[begin + i];
+      if (r.end - r.begin <= leafSize || depth >= maxDepth) return;
+      // Codes in a node share all bits above `shift`, so the octants are sorted runs.
+      uint32_t lo = r.begin;
+      for (uint64_t octant = 0; octant < 8 && lo < r.end; ++octant) {
+        const auto it = std::partition_point(
+            keys.begin() + lo, keys.begin() + r.end,
+            [&](const MortonKey& k) { return ((k.code >> shift) & 7u) <= octant; });
+        const auto hi = static_cast<uint32_t>(it - keys.begin());
+        if (hi > lo) children[i][childCounts[i]++] = {lo, hi, static_cast<uint32_t>(octant)};
+        lo = hi;
+      }
+    });
+    for (uint32_t i = 0; i < count; ++i) {
+      if (childCounts[i] == 0) continue;
+      nodes_[begin + i].childBegin = static_cast<uint32_t>(nodes_.size());
+      nodes_[begin + i].childCount = static_cast<uint8_t>(childCounts[i]);
+      for (uint32_t c = 0; c < childCounts[i]; ++c) {
+        ranges.push_back(children[i][c]);
+        nodes_.push_back(makeNode(children[i][c]));
+        cells_.push_back(childCell(cells_[begin + i], children[i][c].octant));
+      }
+    }
+    begin = end;
+    end = static_cast<uint32_t>(nodes_.size());
+  }
+}
+
+void PointCloud::computeBounds() {
+  if (nodes_.empty()) return;
+  for (size_t level = levelBegin_.size() - 1; level-- > 0;) {
+    tbb::parallel_for(levelBegin_[level], levelBegin_[level + 1], [&](uint32_t i) {
+      OctreeNode& node = nodes_[i];
+      Bounds3 b;
+      if (node.isLeaf()) {
+        for (uint32_t s = node.surfelBegin; s < node.surfelEnd; ++s)
+          b.extend(surfelBounds(surfels_, s));
+        for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l)
+          b.extend(lvoxelBounds(lvoxels_, l));
+      } else {
+        for (uint32_t c = 0; c < node.childCount; ++c) b.extend(nodes_[node.childBegin + c].bounds);
+      }
+      node.bounds = b;
+    });
+  }
+}
+
+PointCloudMemory PointCloud::memory() const {
+  PointCloudMemory m;
+  m.surfelBytes = surfels_.memoryBytes();
+  m.lvoxelBytes = lvoxels_.memoryBytes();
+  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t);
+  return m;
+}
+
+}  // namespace lvox

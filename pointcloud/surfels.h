@@ -1,0 +1,48 @@
+#pragma once
+// Surfels: small two-sided Lambertian disks sampled on the scene's surfaces, stored as a
+// struct of arrays so the octree and the gathers touch only the fields they need.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "src/core/math.h"
+
+namespace lvox {
+
+struct SurfelSet {
+  std::vector<Vec3> position;
+  std::vector<Vec3> normal;  // unit; "front" is the side it points to
+  std::vector<float> radius;
+  std::vector<RGB> albedo;
+  std::vector<uint32_t> triangle;  // source triangle of the scene mesh (for materials)
+  // Cached outgoing radiance, W/(m^2 sr), of each side: L = albedo * E_direct / pi
+  // (+ emission), filled by cacheDirectLight. Surfaces are two-sided in lvox, so a wall
+  // lit from one side must stay dark seen from the other.
+  std::vector<RGB> radianceFront;
+  std::vector<RGB> radianceBack;
+  // Disks are enlarged so that they cover the surface without holes; the surface area a
+  // surfel stands for is pi r^2 / radiusScale^2 (used by the cluster aggregates).
+  float radiusScale = 1.0f;
+
+  size_t size() const { return position.size(); }
+  float representedArea(size_t i) const {
+    return kPi * radius[i] * radius[i] / (radiusScale * radiusScale);
+  }
+  void resize(size_t n) {
+    position.resize(n);
+    normal.resize(n);
+    radius.resize(n);
+    albedo.resize(n);
+    triangle.resize(n);
+    radianceFront.assign(n, RGB(0.0f));
+    radianceBack.assign(n, RGB(0.0f));
+  }
+  static constexpr size_t bytesPerElement() {
+    return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t);
+  }
+  size_t memoryBytes() const { return size() * bytesPerElement(); }
+  // Reorders every array so that new index i holds old element order[i].
+  void permute(const std::vector<uint32_t>& order);
+};
+
+}  // namespace lvox
