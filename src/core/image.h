@@ -13,7 +13,8 @@ struct Image {
   std::vector<RGB> pixels;
 
   Image() = default;
-  Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * h, RGB(0.0f)) {}
+  Image(int w, int h, RGB fill = RGB(0.0f))
+      : width(w), height(h), pixels(static_cast<size_t>(w) * h, fill) {}
   RGB& at(int x, int y) { return pixels[static_cast<size_t>(y) * width + x]; }
   const RGB& at(int x, int y) const { return pixels[static_cast<size_t>(y) * width + x]; }
 };

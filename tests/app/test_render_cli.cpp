@@ -72,13 +72,14 @@ TEST(RenderCli, WritesExrPngAndReport) {
 
 // Each bad input: non-zero exit, one line on stderr naming the file and the field, and
 // nothing written.
-void expectCleanFailure(const std::string& sceneText, const std::string& field) {
+void expectCleanFailure(const std::string& sceneText, const std::string& field,
+                        const std::string& file = "scene.json") {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", sceneText);
   const RunResult r =
       runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string(), dir);
   EXPECT_NE(r.exitCode, 0);
-  EXPECT_NE(r.err.find("scene.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(field), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
@@ -107,7 +108,7 @@ TEST(RenderCli, UnknownKey) {
 TEST(RenderCli, MissingMesh) {
   expectCleanFailure(
       replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"),
-      "shapes[0].file");
+      "shapes[0].file", "nope.obj");
 }
 
 TEST(RenderCli, MissingSceneFile) {

@@ -32,13 +32,13 @@ PixelStats channelStats(const Image& image, int c) {
 // Inside a closed box whose walls have albedo rho and emit Le, radiance is uniform:
 // L = Le / (1 - rho) with all bounces (pbrt's furnace test), Le (1 + rho) with one.
 Image renderFurnace(int maxBounces, int spp) {
-  std::string text = R"({"camera": {"position": [0.1, 0.2, 0.3], "look_at": [1, 0.5, 2],
+  const std::string text = R"({"camera": {"position": [0.1, 0.2, 0.3], "look_at": [1, 0.5, 2],
         "vfov_deg": 90, "width": 24, "height": 24},
-      "render": {"mode": "mc", "spp": SPP, "max_bounces": BOUNCES, "seed": 7},
+      "render": {"mode": "mc", "spp": )" +
+                           std::to_string(spp) + R"(, "max_bounces": )" +
+                           std::to_string(maxBounces) + R"(, "seed": 7},
       "materials": {"wall": {"albedo": 0.5, "emission": 0.5}},
       "shapes": [{"type": "box", "min": [-2, -1, -3], "max": [2, 1.5, 3], "material": "wall"}]})";
-  text.replace(text.find("SPP"), 3, std::to_string(spp));
-  text.replace(text.find("BOUNCES"), 7, std::to_string(maxBounces));
   Scene scene = parseScene(text, "/tmp/furnace.json");
   Report report;
   return renderScene(scene, report);

@@ -1,0 +1,82 @@
+// `lvox compare A.exr B.exr [--json] [--heatmap H.png]`: error of A against reference B.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "src/app/commands.h"
+#include "src/core/image_io.h"
+#include "src/core/image_metrics.h"
+
+namespace lvox {
+namespace {
+
+struct CompareFlags {
+  std::string test, reference, heatmap;
+  bool json = false;
+};
+
+// Relative error on a log scale, 1e-3 (dark blue) .. 1 and above (yellow), through a
+// viridis-like ramp, so small and large errors are both readable.
+std::array<uint8_t, 3> heatColour(float relativeError) {
+  static constexpr float stops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  const float x =
+      std::clamp((std::log10(std::max(relativeError, 1e-6f)) + 3.0f) / 3.0f, 0.0f, 1.0f);
+  const float f = x * 4.0f;
+  const int i = std::min(3, static_cast<int>(f));
+  const float t = f - static_cast<float>(i);
+  std::array<uint8_t, 3> c{};
+  for (int k = 0; k < 3; ++k)
+    c[static_cast<size_t>(k)] =
+        static_cast<uint8_t>(std::lround(stops[i][k] * (1 - t) + stops[i + 1][k] * t));
+  return c;
+}
+
+void writeHeatmap(const std::string& path, const Image& test, const Image& reference) {
+  const std::vector<float> err = relativeErrorMap(test, reference);
+  std::vector<uint8_t> rgb(err.size() * 3);
+  for (size_t i = 0; i < err.size(); ++i) {
+    const auto c = heatColour(err[i]);
+    for (size_t k = 0; k < 3; ++k) rgb[3 * i + k] = c[k];
+  }
+  writePngRgb8(path, test.width, test.height, rgb);
+}
+
+int runCompare(const CompareFlags& f) {
+  const Image test = readExr(f.test);
+  const Image reference = readExr(f.reference);
+  const ImageError e = compareImages(test, reference, f.test, f.reference);
+  if (!f.heatmap.empty()) writeHeatmap(f.heatmap, test, reference);
+  if (f.json) {
+    nlohmann::json j;
+    j["delta_percent"] = e.deltaPercent;
+    j["relmse"] = e.relMse;
+    j["rmse"] = e.rmse;
+    j["psnr_db"] = std::isfinite(e.psnrDb) ? nlohmann::json(e.psnrDb) : nlohmann::json("inf");
+    j["max_abs"] = e.maxAbs;
+    j["width"] = test.width;
+    j["height"] = test.height;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("delta    %.4f %%\nrelMSE   %.6g\nRMSE     %.6g\nPSNR     %.3f dB\nmax abs  %.6g\n",
+                e.deltaPercent, e.relMse, e.rmse, e.psnrDb, e.maxAbs);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addCompareCommand(CLI::App& app, int& exitCode) {
+  auto flags = std::make_shared<CompareFlags>();
+  CLI::App* cmd = app.add_subcommand("compare", "Error of image A against the reference B");
+  cmd->add_option("test", flags->test, "Image to measure (EXR)")->required();
+  cmd->add_option("reference", flags->reference, "Reference image (EXR)")->required();
+  cmd->add_flag("--json", flags->json, "Print the metrics as JSON");
+  cmd->add_option("--heatmap", flags->heatmap, "Write a false-colour relative-error PNG");
+  cmd->callback([flags, &exitCode]() { exitCode = runCompare(*flags); });
+}
+
+}  // namespace lvox

@@ -1,0 +1,178 @@
+#include "src/core/image_io.h"
+
+#include <Imath/half.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
+#include <png.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "src/core/atomic_file.h"
+#include "src/core/error.h"
+
+namespace lvox {
+namespace {
+
+constexpr float kHalfMax = 65504.0f;
+
+std::string shortMessage(const std::exception& e) {
+  std::string s = e.what();
+  if (s.size() > 200) s = s.substr(0, 200) + "...";
+  return s;
+}
+
+void checkSize(const std::string& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height)
+    throw InputError(path, "", "image has an invalid size");
+}
+
+// Verifies a written EXR by reading its header and checking completeness and size.
+void verifyExr(const std::string& tmp, int width, int height) {
+  Imf::InputFile in(tmp.c_str());
+  const Imath::Box2i dw = in.header().dataWindow();
+  if (!in.isComplete() || dw.max.x - dw.min.x + 1 != width || dw.max.y - dw.min.y + 1 != height)
+    throw std::runtime_error("the written EXR does not read back complete");
+}
+
+}  // namespace
+
+ExrWriteStats writeExr(const std::string& path, const Image& image, bool half,
+                       const ImageMetadata& metadata) {
+  checkSize(path, image);
+  ExrWriteStats stats;
+  const size_t n = image.pixels.size();
+  std::vector<float> channels[3];
+  for (auto& c : channels) c.resize(n);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      float v = image.pixels[i][c];
+      if (!std::isfinite(v) || v < 0.0f) {
+        v = 0.0f;
+        ++stats.sanitized;
+      }
+      if (half && v > kHalfMax) {
+        v = kHalfMax;
+        ++stats.clamped;
+      }
+      channels[c][i] = v;
+    }
+  std::vector<Imath::half> halves[3];
+  if (half)
+    for (int c = 0; c < 3; ++c) halves[c].assign(channels[c].begin(), channels[c].end());
+
+  auto write = [&](const std::string& tmp) {
+    Imf::Header header(image.width, image.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const auto& [key, value] : metadata) header.insert(key, Imf::StringAttribute(value));
+    const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+    const char* names[3] = {"R", "G", "B"};
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < 3; ++c) {
+      header.channels().insert(names[c], Imf::Channel(type));
+      char* base = half ? reinterpret_cast<char*>(halves[c].data())
+                        : reinterpret_cast<char*>(channels[c].data());
+      const size_t size = half ? sizeof(Imath::half) : sizeof(float);
+      fb.insert(names[c], Imf::Slice(type, base, size, size * static_cast<size_t>(image.width)));
+    }
+    // The OutputFile is destroyed (and so finished) before the file is verified and renamed.
+    Imf::OutputFile out(tmp.c_str(), header);
+    out.setFrameBuffer(fb);
+    out.writePixels(image.height);
+  };
+  publishAtomically(path, write,
+                    [&](const std::string& tmp) { verifyExr(tmp, image.width, image.height); });
+  return stats;
+}
+
+Image readExr(const std::string& path, ImageMetadata* metadata) {
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw InputError(path, "", std::string("cannot open: ") + std::strerror(errno));
+  }
+  try {
+    Imf::InputFile in(path.c_str());
+    if (!in.isComplete()) throw InputError(path, "", "the EXR file is incomplete (truncated?)");
+    const Imath::Box2i dw = in.header().dataWindow();
+    const long long w = static_cast<long long>(dw.max.x) - dw.min.x + 1;
+    const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
+    if (w <= 0 || h <= 0 || w * h > (1ll << 30))
+      throw InputError(path, "", "the EXR data window has an unusable size");
+    Image image(static_cast<int>(w), static_cast<int>(h));
+    const Imf::ChannelList& list = in.header().channels();
+    const bool rgb = list.findChannel("R") && list.findChannel("G") && list.findChannel("B");
+    const bool grey = list.findChannel("Y") != nullptr;
+    if (!rgb && !grey) throw InputError(path, "", "the EXR has neither R, G, B nor Y channels");
+    std::vector<float> planes[3];
+    Imf::FrameBuffer fb;
+    const char* names[3] = {"R", "G", "B"};
+    const size_t n = static_cast<size_t>(w * h);
+    const size_t xStride = sizeof(float), yStride = sizeof(float) * static_cast<size_t>(w);
+    for (int c = 0; c < 3; ++c) {
+      planes[c].assign(n, 0.0f);
+      // Offset the base so that pixel (dw.min.x, dw.min.y) lands at index 0.
+      char* base = reinterpret_cast<char*>(planes[c].data()) -
+                   static_cast<ptrdiff_t>(dw.min.x) * static_cast<ptrdiff_t>(xStride) -
+                   static_cast<ptrdiff_t>(dw.min.y) * static_cast<ptrdiff_t>(yStride);
+      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
+      if (!rgb) break;
+    }
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    for (size_t i = 0; i < n; ++i)
+      image.pixels[i] = rgb ? RGB(planes[0][i], planes[1][i], planes[2][i])
+                            : RGB(planes[0][i], planes[0][i], planes[0][i]);
+    if (metadata) {
+      for (auto it = in.header().begin(); it != in.header().end(); ++it)
+        if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+          (*metadata)[it.name()] = s->value();
+    }
+    return image;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path, "", "not a readable OpenEXR file: " + shortMessage(e));
+  }
+}
+
+uint8_t toneMap(float linear, float exposure) {
+  if (!std::isfinite(linear) || linear <= 0.0f) return 0;
+  const float mapped = 1.0f - std::exp(-exposure * linear);
+  const float srgb =
+      mapped <= 0.0031308f ? 12.92f * mapped : 1.055f * std::pow(mapped, 1.0f / 2.4f) - 0.055f;
+  return static_cast<uint8_t>(std::lround(std::clamp(srgb, 0.0f, 1.0f) * 255.0f));
+}
+
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * height * 3)
+    throw InputError(path, "", "PNG buffer has an invalid size");
+  publishAtomically(path, [&](const std::string& tmp) {
+    png_image png;
+    std::memset(&png, 0, sizeof(png));
+    png.version = PNG_IMAGE_VERSION;
+    png.width = static_cast<png_uint_32>(width);
+    png.height = static_cast<png_uint_32>(height);
+    png.format = PNG_FORMAT_RGB;
+    if (!png_image_write_to_file(&png, tmp.c_str(), 0, rgb.data(), 0, nullptr))
+      throw std::runtime_error(std::string("libpng: ") + png.message);
+  });
+}
+
+void writePng(const std::string& path, const Image& image, float exposure) {
+  checkSize(path, image);
+  std::vector<uint8_t> rgb(image.pixels.size() * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      rgb[3 * i + static_cast<size_t>(c)] = toneMap(image.pixels[i][c], exposure);
+  writePngRgb8(path, image.width, image.height, rgb);
+}
+
+}  // namespace lvox

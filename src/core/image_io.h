@@ -1,0 +1,38 @@
+#pragma once
+// Reading and writing images. Every writer publishes atomically (atomic_file.h) and never
+// lets NaN, Inf or negative values into a file: they are written as 0 and counted.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "src/core/image.h"
+
+namespace lvox {
+
+using ImageMetadata = std::map<std::string, std::string>;
+
+struct ExrWriteStats {
+  uint64_t sanitized = 0;  // NaN/Inf/negative values written as 0
+  uint64_t clamped = 0;    // values above the half-float maximum (half output only)
+};
+
+// Linear RGB OpenEXR, ZIP-compressed (lossless). Float32 by default; `half` clamps values
+// above 65504. Metadata become string attributes of the header (e.g. "lvox.spp").
+ExrWriteStats writeExr(const std::string& path, const Image& image, bool half = false,
+                       const ImageMetadata& metadata = {});
+
+// Reads R, G, B (or Y as grey) of an OpenEXR file; throws InputError on a missing,
+// corrupt or incomplete file. String attributes are returned in `metadata`.
+Image readExr(const std::string& path, ImageMetadata* metadata = nullptr);
+
+// The preview tone map: per channel 1 - exp(-exposure * x) (keeps hue for moderate values,
+// compresses highlights smoothly, never clips), then the sRGB transfer curve, to 8 bits.
+uint8_t toneMap(float linear, float exposure = 1.0f);
+
+// Tone-mapped 8-bit sRGB PNG preview.
+void writePng(const std::string& path, const Image& image, float exposure = 1.0f);
+// An 8-bit RGB buffer (width * height * 3, top row first) as PNG.
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
+
+}  // namespace lvox

@@ -1,0 +1,63 @@
+// `lvox compare` end to end on images with known errors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "src/core/image_io.h"
+#include "test_util.h"
+
+namespace lvox {
+namespace {
+
+std::string runCapture(const std::string& cmd, int& exitCode) {
+  std::string out;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  char buf[512];
+  while (pipe && fgets(buf, sizeof(buf), pipe)) out += buf;
+  const int status = pipe ? pclose(pipe) : -1;
+  exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+TEST(CompareCli, JsonMetricsAndHeatmap) {
+  const auto dir = test::tempDir();
+  Image ref(4, 4, RGB(2.0f)), test(4, 4, RGB(2.0f));
+  for (int x = 0; x < 4; ++x) test.at(x, 0) = RGB(2.8f);  // a quarter of the pixels +40 %
+  writeExr((dir / "ref.exr").string(), ref);
+  writeExr((dir / "test.exr").string(), test);
+  int rc = -1;
+  const std::string out = runCapture(
+      std::string(LVOX_BINARY) + " compare " + (dir / "test.exr").string() + " " +
+          (dir / "ref.exr").string() + " --json --heatmap " + (dir / "heat.png").string(),
+      rc);
+  ASSERT_EQ(rc, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_NEAR(j["delta_percent"].get<double>(), 10.0, 1e-4);  // 0.25 * 40 %
+  EXPECT_NEAR(j["max_abs"].get<double>(), 0.8, 1e-5);
+  EXPECT_NEAR(j["rmse"].get<double>(), 0.4, 1e-5);  // sqrt(0.25 * 0.64)
+  EXPECT_TRUE(std::filesystem::exists(dir / "heat.png"));
+}
+
+TEST(CompareCli, ErrorsAreOneLineAndNonZero) {
+  const auto dir = test::tempDir();
+  writeExr((dir / "a.exr").string(), Image(4, 4, RGB(1.0f)));
+  writeExr((dir / "b.exr").string(), Image(5, 4, RGB(1.0f)));
+  int rc = -1;
+  std::string err = runCapture(std::string(LVOX_BINARY) + " compare " + (dir / "a.exr").string() +
+                                   " " + (dir / "b.exr").string() + " 2>&1",
+                               rc);
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(err.find("a.exr"), std::string::npos) << err;
+  err = runCapture(std::string(LVOX_BINARY) + " compare " + (dir / "a.exr").string() + " " +
+                       (dir / "none.exr").string() + " 2>&1",
+                   rc);
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(err.find("none.exr"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+}  // namespace
+}  // namespace lvox
