@@ -21,9 +21,13 @@ std::string errnoText() { return std::strerror(errno); }
 std::string createTemporary(const fs::path& path) {
   std::random_device entropy;
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const fs::path tmp =
-        path.parent_path() / ("." + path.filename().string() + ".tmp-" + std::to_string(getpid()) +
-                              "-" + std::to_string(entropy() % 1000000u));
+    std::string name = ".";
+    name.append(path.filename().string())
+        .append(".tmp-")
+        .append(std::to_string(getpid()))
+        .append("-")
+        .append(std::to_string(entropy() % 1000000u));
+    const fs::path tmp = path.parent_path() / name;
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
     if (fd >= 0) {
       ::close(fd);
