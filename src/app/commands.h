@@ -8,5 +8,6 @@ namespace lvox {
 
 void addRenderCommand(CLI::App& app, int& exitCode);
 void addCompareCommand(CLI::App& app, int& exitCode);
+void addMergeCommand(CLI::App& app, int& exitCode);
 
 }  // namespace lvox

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   lvox::addRenderCommand(app, exitCode);
   lvox::addCompareCommand(app, exitCode);
+  lvox::addMergeCommand(app, exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,13 +2,17 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include "src/app/commands.h"
 #include "src/app/render_output.h"
+#include "src/core/atomic_file.h"
 #include "src/core/error.h"
+#include "src/core/image_io.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 
@@ -27,9 +31,28 @@ struct RenderFlags {
   std::optional<std::string> solver;
   std::optional<float> step;
   std::optional<float> tolerance;
+  uint64_t firstSample = 0;
+  double timeLimit = 0.0;
+  std::string convergenceReference;
+  std::string convergenceCsv;
   bool half = false;
   bool quiet = false;
 };
+
+void writeConvergenceCsv(const std::string& path, const std::vector<ConvergencePoint>& points) {
+  std::ostringstream csv;
+  csv << "spp,seconds,delta_percent,relmse,rmse,psnr_db,max_abs\n";
+  for (const ConvergencePoint& p : points)
+    csv << p.spp << ',' << p.seconds << ',' << p.error.deltaPercent << ',' << p.error.relMse << ','
+        << p.error.rmse << ',' << p.error.psnrDb << ',' << p.error.maxAbs << '\n';
+  const std::string text = csv.str();
+  publishAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write the CSV");
+  });
+}
 
 void applyOverrides(const RenderFlags& f, Scene& scene) {
   if (f.mode) scene.render.mode = *f.mode;
@@ -49,10 +72,11 @@ void printSummary(const Scene& scene, const Report& report, const std::string& o
     auto it = report.counts.find(key);
     if (it != report.counts.end()) rays += it->second;
   }
-  std::fprintf(stderr, "lvox: %s %dx%d %d spp, %s mode: %.2f s, %.2f Mrays/s -> %s\n",
+  std::fprintf(stderr, "lvox: %s %dx%d %s spp, %s mode: %.2f s, %.2f Mrays/s -> %s\n",
                std::filesystem::path(scene.path).filename().c_str(), scene.camera.width,
-               scene.camera.height, scene.render.spp, scene.render.mode.c_str(), seconds,
-               seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0, output.c_str());
+               scene.camera.height, report.settings.at("spp").c_str(), scene.render.mode.c_str(),
+               seconds, seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0,
+               output.c_str());
   auto invalid = report.counts.find("invalid_samples");
   if (invalid != report.counts.end() && invalid->second > 0)
     std::fprintf(stderr, "lvox: warning: %llu invalid (NaN/Inf/negative) samples were zeroed\n",
@@ -72,11 +96,28 @@ int runRender(const RenderFlags& flags) {
   applyOverrides(flags, scene);
   validateMode(scene);
   RenderOutputs outputs(flags.output, flags.report, scene.inputFiles);
-  Image image = renderScene(scene, report);
+  RenderPlan plan;
+  plan.spp = scene.render.spp;
+  plan.firstSample = flags.firstSample;
+  plan.timeLimitSeconds = flags.timeLimit;
+  Image reference;
+  if (!flags.convergenceReference.empty()) {
+    if (flags.convergenceCsv.empty())
+      throw InputError(flags.convergenceReference, "--convergence", "needs --convergence-csv");
+    checkOutputPath(flags.convergenceCsv, "--convergence-csv", scene.inputFiles);
+    reference = readExr(flags.convergenceReference);
+    if (reference.width != scene.camera.width || reference.height != scene.camera.height)
+      throw InputError(flags.convergenceReference, "--convergence",
+                       "has a different size than the scene's camera");
+    plan.reference = &reference;
+  }
+  RenderResult result = renderScene(scene, plan, report);
+  Image& image = result.image;
   report.memory["peak_rss"] = peakRssBytes();
   report.times["total"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   outputs.write(image, report, flags.half);
+  if (plan.reference) writeConvergenceCsv(flags.convergenceCsv, result.convergence);
   if (!flags.quiet) printSummary(scene, report, outputs.exrPath());
   return 0;
 }
@@ -91,7 +132,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "Output EXR path (a PNG preview is written beside it)")
       ->required();
   cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
-  cmd->add_option("--mode", flags->mode, "direct");
+  cmd->add_option("--mode", flags->mode, "direct | mc");
   cmd->add_option("--spp", flags->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path")
       ->check(CLI::Range(0, 1 << 16));
@@ -102,6 +143,14 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--step", flags->step, "Volume step in scene units")->check(CLI::PositiveNumber);
   cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--first-sample", flags->firstSample,
+                  "Index of the first sample: render chunk [first, first+spp) of a longer run");
+  cmd->add_option("--time-limit", flags->timeLimit,
+                  "Seconds: render progressively (1, 2, 4, ... spp) until the budget or --spp")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--convergence", flags->convergenceReference,
+                  "Reference EXR: record the error after 1, 2, 4, ... spp");
+  cmd->add_option("--convergence-csv", flags->convergenceCsv, "Where the convergence CSV goes");
   cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
   cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
   cmd->callback([flags, &exitCode]() { exitCode = runRender(*flags); });

@@ -1,12 +1,12 @@
 #pragma once
 // --mode direct: light straight from the light sources. Surfaces get direct light with
 // exact shadow rays; camera rays that escape see the environment.
-#include "src/core/image.h"
 #include "src/render/render_context.h"
-#include "src/render/report.h"
+#include "src/render/sampler_counters.h"
+#include "src/render/tile_renderer.h"
 
 namespace lvox {
 
-Image renderDirect(const RenderContext& ctx, Report& report);
+PixelSampler directSampler(const RenderContext& ctx, SamplerCounters& counters);
 
 }  // namespace lvox

@@ -1,7 +1,5 @@
 #include "src/render/mc_integrator.h"
 
-#include <atomic>
-
 #include "src/render/tile_renderer.h"
 
 namespace lvox {
@@ -77,38 +75,17 @@ RGB tracePath(const RenderContext& ctx, const LightSet& neeLights, Ray ray, Rng&
 
 }  // namespace
 
-Image renderMonteCarlo(const RenderContext& ctx, Report& report) {
-  const Scene& scene = ctx.scene;
-  const Camera& cam = scene.camera;
-  // One light sample per light and vertex: the path's own samples do the averaging.
-  const LightSet neeLights(scene, 1);
-  std::atomic<uint64_t> rays{0}, paths{0};
-  PixelSampler sample = [&](int x, int y, Rng& rng) {
-    PathCounters counters;
-    const Ray ray = cam.generateRay(static_cast<float>(x) + rng.uniform(),
-                                    static_cast<float>(y) + rng.uniform());
-    const RGB l = tracePath(ctx, neeLights, ray, rng, counters);
-    rays.fetch_add(counters.rays, std::memory_order_relaxed);
-    paths.fetch_add(counters.paths, std::memory_order_relaxed);
+PixelSampler monteCarloSampler(const RenderContext& ctx, const LightSet& neeLights,
+                               SamplerCounters& counters) {
+  return [&ctx, &neeLights, &counters](int x, int y, Rng& rng) {
+    PathCounters local;
+    const Ray ray = ctx.scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
+                                                 static_cast<float>(y) + rng.uniform());
+    const RGB l = tracePath(ctx, neeLights, ray, rng, local);
+    counters.pathRays.fetch_add(local.rays, std::memory_order_relaxed);
+    counters.paths.fetch_add(local.paths, std::memory_order_relaxed);
     return l;
   };
-  TileStats stats;
-  Image image;
-  {
-    PhaseTimer timer(report, "render");
-    image = renderTiles(cam.width, cam.height, scene.render.spp, scene.render.seed, sample, stats);
-  }
-  report.add("camera_rays", stats.samples);
-  report.add("path_rays", rays.load());
-  report.add("paths", paths.load());
-  report.add("invalid_samples", stats.invalidSamples);
-  const double seconds = report.times["render"];
-  if (seconds > 0) {
-    report.settings["paths_per_second"] =
-        std::to_string(static_cast<double>(paths.load()) / seconds);
-    report.settings["rays_per_second"] = std::to_string(static_cast<double>(rays.load()) / seconds);
-  }
-  return image;
 }
 
 }  // namespace lvox

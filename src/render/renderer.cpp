@@ -17,6 +17,12 @@ void validateMode(const Scene& scene) {
 }
 
 Image renderScene(const Scene& scene, Report& report) {
+  RenderPlan plan;
+  plan.spp = scene.render.spp;
+  return renderScene(scene, plan, report).image;
+}
+
+RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& report) {
   validateMode(scene);
   std::unique_ptr<tbb::global_control> threads;
   if (scene.render.threads > 0)
@@ -28,13 +34,33 @@ Image renderScene(const Scene& scene, Report& report) {
     tracer = std::make_unique<RayTracer>(scene.mesh);
   }
   const LightSet lights(scene, scene.render.areaLightSamples);
+  const LightSet singleSampleLights(scene, 1);
   const RenderContext ctx{scene, *tracer, lights};
+  SamplerCounters counters;
+  const PixelSampler sampler = scene.render.mode == "mc"
+                                   ? monteCarloSampler(ctx, singleSampleLights, counters)
+                                   : directSampler(ctx, counters);
+  TileStats stats;
+  RenderResult result;
+  {
+    PhaseTimer timer(report, "render");
+    result = renderProgressive(scene.camera.width, scene.camera.height, scene.render.seed, sampler,
+                               plan, stats);
+  }
   report.add("triangles", scene.mesh.triangleCount());
+  report.add("camera_rays", stats.samples);
+  report.add("invalid_samples", stats.invalidSamples);
+  counters.addTo(report);
   report.settings["mode"] = scene.render.mode;
-  report.settings["spp"] = std::to_string(scene.render.spp);
+  report.settings["spp"] = std::to_string(result.sppDone);
+  report.settings["first_sample"] = std::to_string(plan.firstSample);
   report.settings["seed"] = std::to_string(scene.render.seed);
-  if (scene.render.mode == "mc") return renderMonteCarlo(ctx, report);
-  return renderDirect(ctx, report);
+  report.settings["scene"] = scene.path;
+  const double seconds = report.times["render"];
+  if (seconds > 0 && counters.paths.load() > 0)
+    report.settings["paths_per_second"] =
+        std::to_string(static_cast<double>(counters.paths.load()) / seconds);
+  return result;
 }
 
 }  // namespace lvox

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "src/core/image_io.h"
+#include "src/core/image_metrics.h"
 #include "test_util.h"
 
 namespace lvox {
@@ -158,6 +160,63 @@ TEST(RenderCli, SameImageForAnyThreadCount) {
   sa << a.rdbuf();
   sb << b.rdbuf();
   EXPECT_EQ(sa.str(), sb.str());
+}
+
+}  // namespace
+}  // namespace lvox
+
+namespace lvox {
+namespace {
+
+TEST(RenderCli, ChunksMergeIntoTheFullRender) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const std::string scene = (dir / "scene.json").string() + " --mode mc --spp 3";
+  ASSERT_EQ(runLvox("render " + scene + " -o " + (dir / "a.exr").string(), dir).exitCode, 0);
+  ASSERT_EQ(
+      runLvox("render " + scene + " --first-sample 3 -o " + (dir / "b.exr").string(), dir).exitCode,
+      0);
+  ASSERT_EQ(runLvox("render " + (dir / "scene.json").string() + " --mode mc --spp 6 -o " +
+                        (dir / "full.exr").string(),
+                    dir)
+                .exitCode,
+            0);
+  ASSERT_EQ(runLvox("merge " + (dir / "a.exr").string() + " " + (dir / "b.exr").string() + " -o " +
+                        (dir / "merged.exr").string(),
+                    dir)
+                .exitCode,
+            0);
+  const Image merged = readExr((dir / "merged.exr").string());
+  const Image full = readExr((dir / "full.exr").string());
+  // Same samples, different summation order: equal to float rounding.
+  EXPECT_LT(compareImages(merged, full).maxAbs, 1e-5);
+  // Merging a chunk with itself would double-count samples: refused.
+  const RunResult r = runLvox("merge " + (dir / "a.exr").string() + " " + (dir / "a.exr").string() +
+                                  " -o " + (dir / "bad.exr").string(),
+                              dir);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
+
+TEST(RenderCli, ConvergenceCsvHasOneRowPerDoubling) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const std::string scene = (dir / "scene.json").string() + " --mode mc";
+  ASSERT_EQ(runLvox("render " + scene + " --spp 64 -o " + (dir / "ref.exr").string(), dir).exitCode,
+            0);
+  ASSERT_EQ(runLvox("render " + scene + " --seed 9 --spp 8 -o " + (dir / "t.exr").string() +
+                        " --convergence " + (dir / "ref.exr").string() + " --convergence-csv " +
+                        (dir / "conv.csv").string(),
+                    dir)
+                .exitCode,
+            0);
+  std::ifstream in(dir / "conv.csv");
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u);  // header + 1, 2, 4, 8 spp
+  EXPECT_EQ(rows[1].substr(0, 2), "1,");
+  EXPECT_EQ(rows[4].substr(0, 2), "8,");
 }
 
 }  // namespace

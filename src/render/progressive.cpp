@@ -1,0 +1,55 @@
+#include "src/render/progressive.h"
+
+#include <chrono>
+
+namespace lvox {
+namespace {
+
+Image mean(const Image& sum, int spp) {
+  Image out = sum;
+  for (RGB& p : out.pixels) p /= static_cast<float>(spp);
+  return out;
+}
+
+}  // namespace
+
+RenderResult renderProgressive(int width, int height, uint64_t seed, const PixelSampler& sample,
+                               const RenderPlan& plan, TileStats& stats) {
+  using Clock = std::chrono::steady_clock;
+  RenderResult result;
+  Image sum(width, height);
+  const bool progressive = plan.timeLimitSeconds > 0.0 || plan.reference != nullptr;
+  const auto start = Clock::now();
+  double secondsPerSample = 0.0;
+  while (result.sppDone < plan.spp) {
+    // Doubling passes (1, 1, 2, 4, ...) when progressive, else everything at once.
+    int pass = progressive ? std::max(1, result.sppDone) : plan.spp;
+    pass = std::min(pass, plan.spp - result.sppDone);
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (plan.timeLimitSeconds > 0.0 && result.sppDone > 0) {
+      const double remaining = plan.timeLimitSeconds - elapsed;
+      const int affordable =
+          secondsPerSample > 0.0 ? static_cast<int>(remaining / secondsPerSample) : pass;
+      if (affordable < 1) break;
+      pass = std::min(pass, affordable);
+    }
+    const auto passStart = Clock::now();
+    accumulateTiles(sum, plan.firstSample + static_cast<uint64_t>(result.sppDone), pass, seed,
+                    sample, stats);
+    const double passSeconds = std::chrono::duration<double>(Clock::now() - passStart).count();
+    secondsPerSample = passSeconds / pass;
+    result.sppDone += pass;
+    if (plan.reference) {
+      ConvergencePoint point;
+      point.spp = result.sppDone;
+      point.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      point.error =
+          compareImages(mean(sum, result.sppDone), *plan.reference, "render", "reference");
+      result.convergence.push_back(point);
+    }
+  }
+  result.image = mean(sum, result.sppDone);
+  return result;
+}
+
+}  // namespace lvox

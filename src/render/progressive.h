@@ -1,0 +1,36 @@
+#pragma once
+// Runs a pixel sampler over the image in passes: all at once, or progressively (1, 2, 4,
+// ... samples in total) to honour a time budget or to record the error against a
+// reference after every doubling. Because every sample has its own random stream, the
+// image after n samples is the same whichever way it was reached.
+#include <vector>
+
+#include "src/core/image.h"
+#include "src/core/image_metrics.h"
+#include "src/render/tile_renderer.h"
+
+namespace lvox {
+
+struct RenderPlan {
+  int spp = 1;                       // samples per pixel to render (the maximum with a budget)
+  uint64_t firstSample = 0;          // index of the first sample: chunks of one reference
+  double timeLimitSeconds = 0.0;     // 0: no budget
+  const Image* reference = nullptr;  // record the error after each doubling
+};
+
+struct ConvergencePoint {
+  int spp = 0;
+  double seconds = 0.0;  // render time so far
+  ImageError error;
+};
+
+struct RenderResult {
+  Image image;  // mean of the samples rendered
+  int sppDone = 0;
+  std::vector<ConvergencePoint> convergence;
+};
+
+RenderResult renderProgressive(int width, int height, uint64_t seed, const PixelSampler& sample,
+                               const RenderPlan& plan, TileStats& stats);
+
+}  // namespace lvox
