@@ -12,9 +12,8 @@ Layout (metres, Y up, the long axis is x):
   * galleries 3 m deep, closed by outer walls and covered by a roof slab;
   * coloured fabric banners hanging from the upper balustrade in front of the ground
     arches.
-Every piece overlaps its neighbours by a centimetre or more, so that no light leaks
-through cracks (lvox treats surfaces as two-sided, so winding does not matter for it;
-the faces are still wound consistently where it is cheap).
+Pieces that meet either share exact vertices or overlap by a centimetre or more, so no
+light leaks through cracks. lvox treats surfaces as two-sided, so winding is not relied on.
 """
 
 import math
@@ -215,7 +214,8 @@ def column_profile(radius, y0, y1):
     shaft_top = abacus_bottom - 0.30 * k
     for i in range(4):  # entasis: the shaft narrows by 10 % towards the top
         t = i / 3.0
-        profile.append((radius * (1.0 - 0.10 * t * t), shaft_bottom + t * (shaft_top - shaft_bottom)))
+        y = shaft_bottom + t * (shaft_top - shaft_bottom)
+        profile.append((radius * (1.0 - 0.10 * t * t), y))
     top = [(0.29, 0.28), (0.29, 0.22), (0.27, 0.20), (0.30, 0.14), (0.36, 0.07), (0.41, 0.0)]
     profile += [(r * k, abacus_bottom - dy * k) for r, dy in top]
     return profile, plinth_top, abacus_bottom
