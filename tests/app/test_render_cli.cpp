@@ -221,3 +221,35 @@ TEST(RenderCli, ConvergenceCsvHasOneRowPerDoubling) {
 
 }  // namespace
 }  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// The shipped scenes load and render (small and fast here; full size in the README).
+void expectSceneRenders(const std::string& scenePath, const std::string& mode) {
+  const auto dir = test::tempDir();
+  const RunResult r =
+      runLvox("render " + scenePath + " --mode " + mode + " --spp 1 -o " +
+                  (dir / "out.exr").string() + " --report " + (dir / "r.json").string(),
+              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image image = readExr((dir / "out.exr").string());
+  double sum = 0.0;
+  for (const RGB& p : image.pixels) sum += p.x + p.y + p.z;
+  EXPECT_GT(sum / static_cast<double>(image.pixels.size()), 0.01) << "image is black";
+}
+
+TEST(Scenes, AtriumRendersInDirectAndMcModes) {
+  const std::string atrium = std::string(LVOX_SOURCE_DIR) + "/scenes/atrium.json";
+  expectSceneRenders(atrium, "direct");
+  expectSceneRenders(atrium, "mc");
+}
+
+TEST(Scenes, RealSponzaRendersWhenPresent) {
+  if (!fs::exists(std::string(LVOX_SHARED_DIR) + "/assets/sponza/sponza.obj"))
+    GTEST_SKIP() << "shared Sponza asset absent";
+  expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/sponza.json", "direct");
+}
+
+}  // namespace
+}  // namespace lvox
