@@ -7,13 +7,15 @@
 #include "src/core/error.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/mc_integrator.h"
+#include "src/render/pcb_integrator.h"
 
 namespace lvox {
 
 void validateMode(const Scene& scene) {
   const std::string& mode = scene.render.mode;
-  if (mode != "direct" && mode != "mc")
-    throw InputError(scene.path, "render.mode", "unknown mode '" + mode + "' (direct, mc)");
+  if (mode != "direct" && mode != "mc" && mode != "pcb" && mode != "pcb-surfels")
+    throw InputError(scene.path, "render.mode",
+                     "unknown mode '" + mode + "' (direct, mc, pcb, pcb-surfels)");
 }
 
 Image renderScene(const Scene& scene, Report& report) {
@@ -37,9 +39,16 @@ RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& rep
   const LightSet singleSampleLights(scene, 1);
   const RenderContext ctx{scene, *tracer, lights};
   SamplerCounters counters;
-  const PixelSampler sampler = scene.render.mode == "mc"
-                                   ? monteCarloSampler(ctx, singleSampleLights, counters)
-                                   : directSampler(ctx, counters);
+  std::unique_ptr<PointCloud> cloud;
+  PixelSampler sampler;
+  if (scene.render.mode == "mc") {
+    sampler = monteCarloSampler(ctx, singleSampleLights, counters);
+  } else if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels") {
+    cloud = buildPointCloud(ctx, report);
+    sampler = pcbSampler(ctx, *cloud, plan.spp, counters);
+  } else {
+    sampler = directSampler(ctx, counters);
+  }
   TileStats stats;
   RenderResult result;
   {

@@ -11,6 +11,7 @@ struct SamplerCounters {
   std::atomic<uint64_t> shadowRays{0};
   std::atomic<uint64_t> pathRays{0};
   std::atomic<uint64_t> paths{0};
+  std::atomic<uint64_t> gatherRays{0};
   std::atomic<uint64_t> mediumEvals{0};
   std::atomic<uint64_t> solverSteps{0};
   std::atomic<uint64_t> rejectedSteps{0};
@@ -24,6 +25,7 @@ struct SamplerCounters {
     put("shadow_rays", shadowRays);
     put("path_rays", pathRays);
     put("paths", paths);
+    put("gather_rays", gatherRays);
     report.add("medium_evals", mediumEvals.load());
     put("solver_steps", solverSteps);
     put("rejected_steps", rejectedSteps);

@@ -96,9 +96,12 @@ struct VolumeIntegratorSettings {
 };
 
 struct PointCloudSettings {
-  float surfelSpacing = 0.0f;  // 0: derived from the scene size
-  float lvoxelSpacing = 0.0f;  // 0: derived from the medium size
-  int gatherSamples = 128;
+  float surfelSpacing = 0.0f;             // 0: derived from the total surface area
+  int targetSurfels = 300000;             // used to derive the spacing when it is 0
+  std::string surfelSampler = "uniform";  // uniform | camera
+  float lvoxelSpacing = 0.0f;             // 0: derived from the medium size
+  int gatherSamples = 128;                // gather rays per pixel (split over its samples)
+  float clusterSolidAngle = 0.03f;        // sr; 0 = every element exactly
 };
 
 struct RenderSettings {

@@ -271,7 +271,12 @@ void parseVolumeIntegrator(JsonObject v, VolumeIntegratorSettings& s) {
 void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   s.surfelSpacing = p.number("surfel_spacing", 0.0f, 1e9f, s.surfelSpacing);
   s.lvoxelSpacing = p.number("lvoxel_spacing", 0.0f, 1e9f, s.lvoxelSpacing);
+  s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
+  s.surfelSampler = p.string("surfel_sampler", s.surfelSampler);
+  if (s.surfelSampler != "uniform" && s.surfelSampler != "camera")
+    p.fail("surfel_sampler", "unknown sampler '" + s.surfelSampler + "' (uniform, camera)");
   s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
+  s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
   p.finish();
 }
 
