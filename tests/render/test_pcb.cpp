@@ -1,0 +1,50 @@
+// --mode pcb-surfels end to end: the point cloud replaces one bounce of indirect light.
+#include <gtest/gtest.h>
+
+#include "src/render/renderer.h"
+#include "src/scene/scene_loader.h"
+
+namespace lvox {
+namespace {
+
+RenderResult render(const std::string& text, Report& report) {
+  Scene scene = parseScene(text, "/tmp/pcb-test.json");
+  RenderPlan plan;
+  plan.spp = scene.render.spp;
+  return renderScene(scene, plan, report);
+}
+
+// A white floor beside a red wall, lit by a sun that reaches both: the floor next to the
+// wall is reddened by light bounced off the wall.
+TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
+  const std::string scene = R"({
+    "camera": {"position": [0.25, 0.15, 2], "look_at": [0.25, 0, 0], "vfov_deg": 1, "width": 1, "height": 1},
+    "render": {"mode": "MODE", "spp": 4, "max_bounces": 2},
+    "materials": {"white": {"albedo": 0.8}, "red": {"albedo": [0.8, 0.05, 0.05]}},
+    "shapes": [{"type": "quad", "corners": [[-2,0,-2],[2,0,-2],[2,0,2],[-2,0,2]], "material": "white"},
+               {"type": "quad", "corners": [[0,0,-2],[0,0,2],[0,3,2],[0,3,-2]], "material": "red"}],
+    "lights": [{"type": "directional", "direction": [-0.5, -0.7, -0.2], "irradiance": 3}],
+    "pointcloud": {"surfel_spacing": 0.03, "gather_samples": 1024, "cluster_solid_angle": 0}
+  })";
+  auto withMode = [&](const std::string& mode) {
+    std::string s = scene;
+    return s.replace(s.find("MODE"), 4, mode);
+  };
+  Report pcbReport, mcReport;
+  const RGB pcb = render(withMode("pcb-surfels"), pcbReport).image.at(0, 0);
+  // The Monte Carlo reference with the same bounce budget (direct + one bounce).
+  Scene mcScene = parseScene(withMode("mc"), "/tmp/pcb-test.json");
+  mcScene.render.spp = 4096;
+  const RGB mc = renderScene(mcScene, mcReport).at(0, 0);
+  // Direct light is white, so the red excess x - y is the bleeding. It must be clearly
+  // there and match the reference within 5 % (surfel discretisation and gather noise).
+  EXPECT_GT(pcb.x - pcb.y, 0.1f);
+  EXPECT_NEAR(pcb.x - pcb.y, mc.x - mc.y, 0.05f * (mc.x - mc.y));
+  EXPECT_NEAR(pcb.y, mc.y, 0.02f * mc.y);
+  EXPECT_EQ(pcbReport.counts["lvoxels"], 0u);  // no media: no lvoxels
+  EXPECT_GT(pcbReport.counts["surfels"], 10000u);
+  EXPECT_GT(pcbReport.memory["octree"], 0u);
+}
+
+}  // namespace
+}  // namespace lvox
