@@ -4,19 +4,37 @@
 
 namespace lvox {
 
-PixelSampler directSampler(const RenderContext& ctx, SamplerCounters& counters) {
-  return [&ctx, &counters](int x, int y, Rng& rng) {
+void addSolveCounts(SamplerCounters& counters, const rte::SolveCounts& c) {
+  if (c.mediumEvals == 0 && c.steps == 0) return;
+  counters.mediumEvals.fetch_add(c.mediumEvals, std::memory_order_relaxed);
+  counters.solverSteps.fetch_add(c.steps, std::memory_order_relaxed);
+  counters.rejectedSteps.fetch_add(c.rejectedSteps, std::memory_order_relaxed);
+  counters.stabilityEvents.fetch_add(c.stabilityEvents, std::memory_order_relaxed);
+  if (c.capped) counters.cappedSegments.fetch_add(1, std::memory_order_relaxed);
+}
+
+PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volume,
+                           SamplerCounters& counters) {
+  return [&ctx, &volume, &counters](int x, int y, Rng& rng) {
     const Scene& scene = ctx.scene;
     const Ray ray = scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
                                              static_cast<float>(y) + rng.uniform());
+    rte::SolveCounts solveCounts;
     SurfaceHit hit;
-    if (!ctx.tracer.intersect(ray, hit)) return ctx.lights.environment();
-    const Material& m = scene.materials[scene.mesh.triangleMaterial[hit.triangle]];
-    uint64_t shadowRays = 0;
-    auto noMedia = [](const Ray&) { return RGB(1.0f); };
-    const RGB reflected = surfaceDirect(ctx, hit, m.albedo, rng, noMedia, shadowRays);
-    counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-    return m.emission + reflected;
+    RGB behind = ctx.lights.environment();
+    const bool hitSurface = ctx.tracer.intersect(ray, hit);
+    if (hitSurface) {
+      const Material& m = scene.materials[scene.mesh.triangleMaterial[hit.triangle]];
+      uint64_t shadowRays = 0;
+      auto throughMedia = [&](const Ray& shadow) {
+        return volume.transmittance(shadow, solveCounts);
+      };
+      behind = m.emission + surfaceDirect(ctx, hit, m.albedo, rng, throughMedia, shadowRays);
+      counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
+    }
+    const RGB l = volume.radiance(ray, hitSurface ? hit.t : kInf, behind, rng, solveCounts);
+    addSolveCounts(counters, solveCounts);
+    return l;
   };
 }
 

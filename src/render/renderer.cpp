@@ -8,6 +8,7 @@
 #include "src/render/direct_integrator.h"
 #include "src/render/mc_integrator.h"
 #include "src/render/pcb_integrator.h"
+#include "src/render/volume_transport.h"
 
 namespace lvox {
 
@@ -38,6 +39,13 @@ RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& rep
   const LightSet lights(scene, scene.render.areaLightSamples);
   const LightSet singleSampleLights(scene, 1);
   const RenderContext ctx{scene, *tracer, lights};
+  MediaSet media;
+  {
+    PhaseTimer timer(report, "media_load");
+    media = MediaSet::build(scene, report.warnings);
+  }
+  const VolumeTransport volume(ctx, media);
+  report.memory["media"] = media.memoryBytes();
   SamplerCounters counters;
   std::unique_ptr<PointCloud> cloud;
   PixelSampler sampler;
@@ -47,7 +55,7 @@ RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& rep
     cloud = buildPointCloud(ctx, report);
     sampler = pcbSampler(ctx, *cloud, plan.spp, counters);
   } else {
-    sampler = directSampler(ctx, counters);
+    sampler = directSampler(ctx, volume, counters);
   }
   TileStats stats;
   RenderResult result;

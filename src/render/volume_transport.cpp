@@ -1,0 +1,189 @@
+#include "src/render/volume_transport.h"
+
+#include <cmath>
+
+namespace lvox {
+namespace {
+
+using Channels = rte::Channels<float>;
+
+Channels toChannels(const RGB& c) { return {c.x, c.y, c.z}; }
+RGB toRgb(const Channels& c) { return {c[0], c[1], c[2]}; }
+
+// sigma_t of the heterogeneous media along a ray (homogeneous ones are done analytically).
+struct HeterogeneousExtinction {
+  const MediaSet& media;
+  const Ray& ray;
+  rte::MediumSample<float> eval(float t) const {
+    const Vec3 x = ray.at(t);
+    RGB sigmaT(0.0f);
+    for (const Medium& m : media.media())
+      if (!m.homogeneous() && m.bounds.contains(x)) sigmaT += m.at(x).sigmaT();
+    return {toChannels(sigmaT), Channels(0.0f)};
+  }
+};
+
+constexpr size_t kMaxMedia = 8;  // media evaluated per point without allocation
+
+}  // namespace
+
+VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media)
+    : ctx_(ctx), media_(media) {
+  const Scene& scene = ctx.scene;
+  const VolumeIntegratorSettings& v = scene.volume;
+  method_ = rte::parseMethod(v.solver, scene.path, "volume_integrator.solver");
+  base_.step = v.step;
+  base_.tolerance = v.tolerance;
+  base_.minStep = v.minStep;
+  base_.maxStep = v.maxStep;
+  base_.maxEvaluations = v.maxEvaluations;
+  base_.seed = scene.render.seed;
+  const rte::Sampling sampling =
+      rte::parseSampling(v.sampling, scene.path, "volume_integrator.sampling");
+  distanceSampling_ = sampling == rte::Sampling::kDistance;
+  if (sampling == rte::Sampling::kEquiangular) {
+    for (const Light& l : scene.lights)
+      if (l.type == LightType::Point || l.type == LightType::Spot) {
+        equiangular_ = true;
+        equiangularCentre_ = l.position;
+        break;
+      }
+  }
+  if (media.size() > kMaxMedia)
+    throw InputError(scene.path, "media",
+                     "at most " + std::to_string(kMaxMedia) + " media are supported");
+}
+
+rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float t0, float t1,
+                                                           float jitter) const {
+  rte::SolveSettings<float> s = base_;
+  s.jitter = jitter;
+  if (equiangular_) {
+    // Equiangular change of variable around the point light (Kulla & Fajardo 2012).
+    const Vec3 toLight = equiangularCentre_ - ray.origin;
+    s.sampling = rte::Sampling::kEquiangular;
+    s.delta = dot(toLight, ray.dir);
+    // A ray through the light itself (h = 0) would make the map singular: 1e-4 units is
+    // the documented floor (the integrand is then finite but very peaked).
+    s.h = std::max(1e-4f, length(toLight - ray.dir * s.delta));
+  } else if (distanceSampling_) {
+    const RGB sigmaT = media_.at(ray.at(0.5f * (t0 + t1))).sigmaT();
+    const float ref = maxComponent(sigmaT);
+    if (ref > 0.0f) {
+      s.sampling = rte::Sampling::kDistance;
+      s.sigmaRef = ref;
+    }
+  }
+  return s;
+}
+
+RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) const {
+  if (media_.empty()) return RGB(1.0f);
+  const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
+  RGB tau(0.0f);
+  bool heterogeneous = false;
+  thread_local std::vector<std::pair<float, float>> spans;
+  for (const Medium& m : media_.media()) {
+    if (!m.homogeneous()) {
+      heterogeneous = true;
+      continue;
+    }
+    spans.clear();
+    m.intervals(ray, ray.tmin, tmax, spans);
+    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
+  }
+  if (heterogeneous) {
+    std::vector<std::pair<float, float>> hetero;
+    for (const Medium& m : media_.media())
+      if (!m.homogeneous()) m.intervals(ray, ray.tmin, tmax, hetero);
+    mergeIntervals(hetero);
+    const HeterogeneousExtinction problem{media_, ray};
+    for (const auto& [a, b] : hetero) {
+      const rte::SolveResult<float> r =
+          rte::solveTransmittance(method_, problem, a, b, segmentSettings(ray, a, b, 0.5f));
+      counts += r.counts;
+      tau += toRgb(r.opticalDepth);
+    }
+  }
+  return RGB(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
+}
+
+RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
+                                         const MediumCoefficients* perMedium, Rng lightRng,
+                                         rte::SolveCounts& counts) const {
+  RGB source(0.0f);
+  ctx_.lights.forEachSample(x, nullptr, lightRng, [&](const LightSample& s) {
+    Ray shadow;
+    shadow.origin = x;
+    shadow.dir = s.wi;
+    shadow.tmin = 0.0f;
+    shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
+    if (ctx_.tracer.occluded(shadow)) return;
+    const RGB arriving = s.radiance * transmittance(shadow, counts);
+    // Light travels along -wi and leaves towards the camera along -viewDir.
+    const float cosTheta = dot(s.wi, viewDir);
+    for (size_t i = 0; i < media_.size(); ++i)
+      if (!isBlack(perMedium[i].sigmaS))
+        source += perMedium[i].sigmaS * arriving * media_[i].phase.eval(cosTheta);
+  });
+  return source;
+}
+
+namespace {
+
+// The RTE source along a camera ray: emission plus single scattering, evaluated once per
+// medium evaluation; the light samples are the same at every t (a smooth integrand).
+struct CameraRayProblem {
+  const VolumeTransport& transport;
+  const Ray& ray;
+  const Rng& lightRng;
+  rte::SolveCounts& shadowCounts;
+  rte::MediumSample<float> eval(float t) const {
+    const Vec3 x = ray.at(t);
+    MediumCoefficients perMedium[kMaxMedia];
+    RGB sigmaT(0.0f), emission(0.0f);
+    bool scatters = false;
+    const MediaSet& media = transport.media();
+    for (size_t i = 0; i < media.size(); ++i) {
+      if (!media[i].bounds.contains(x)) continue;
+      perMedium[i] = media[i].at(x);
+      sigmaT += perMedium[i].sigmaT();
+      emission += perMedium[i].source;
+      scatters = scatters || !isBlack(perMedium[i].sigmaS);
+    }
+    RGB source = emission;
+    if (scatters)
+      source += transport.singleScatterSource(x, ray.dir, perMedium, lightRng, shadowCounts);
+    return {toChannels(sigmaT), toChannels(source)};
+  }
+};
+
+}  // namespace
+
+RGB VolumeTransport::radiance(const Ray& ray, float tEnd, const RGB& background, Rng& rng,
+                              rte::SolveCounts& counts) const {
+  if (media_.empty()) return background;
+  thread_local std::vector<std::pair<float, float>> spans;
+  spans.clear();
+  media_.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
+  if (spans.empty()) return background;
+  const Rng lightRng = rng;  // the light samples of this camera ray
+  rng.next();
+  const float jitter = rng.uniform();
+  RGB radiance(0.0f), throughput(1.0f);
+  rte::SolveCounts shadowCounts;
+  const CameraRayProblem problem{*this, ray, lightRng, shadowCounts};
+  for (const auto& [a, b] : spans) {
+    const rte::SolveResult<float> r =
+        rte::solve(method_, problem, a, b, Channels(0.0f), segmentSettings(ray, a, b, jitter));
+    counts += r.counts;
+    radiance += throughput * toRgb(r.radiance);
+    throughput *= toRgb(r.transmittance);
+    if (maxComponent(throughput) < 1e-6f) break;
+  }
+  counts.mediumEvals += shadowCounts.mediumEvals;
+  counts.stabilityEvents += shadowCounts.stabilityEvents;
+  return radiance + throughput * background;
+}
+
+}  // namespace lvox

@@ -1,0 +1,120 @@
+#include "volume/media/media_set.h"
+
+#include <algorithm>
+
+#include "src/core/error.h"
+
+namespace lvox {
+namespace {
+
+Medium boxMedium(const MediumDesc& d) {
+  Medium m;
+  m.type = d.type;
+  m.procedural = d.procedural;
+  m.bounds.lo = d.boxMin;
+  m.bounds.hi = d.boxMax;
+  m.sigmaA = d.sigmaA;
+  m.sigmaS = d.sigmaS;
+  m.emission = d.emission;
+  m.gradient = d.gradient;
+  m.center = d.center;
+  m.radius = d.radius;
+  m.frequency = d.frequency;
+  return m;
+}
+
+}  // namespace
+
+MediaSet MediaSet::build(const Scene& scene, std::vector<std::string>& warnings) {
+  MediaSet set;
+  const Interpolation interp =
+      parseInterpolation(scene.volume.interpolation, scene.path, "volume_integrator.interpolation");
+  for (const MediumDesc& d : scene.media) {
+    Medium m;
+    if (d.type == MediumType::Vdb) {
+      GridLoadReport report;
+      auto grid = std::make_shared<DenseGrid>(
+          loadVdbGrid(d.file, d.grid, d.transform, d.field + ".grid", report));
+      if (report.clampedNegative > 0)
+        warnings.push_back(d.file + ": " + std::to_string(report.clampedNegative) +
+                           " negative voxels clamped to 0 (most negative " +
+                           std::to_string(report.mostNegative) + ")");
+      if (grid->empty()) {
+        warnings.push_back(d.file + ": grid '" + d.grid + "' has no active voxels: empty medium");
+        continue;
+      }
+      m.type = MediumType::Vdb;
+      m.bounds = grid->worldBounds();
+      m.density = grid;
+      m.densityScale = d.densityScale;
+      m.albedo = d.albedo;
+      m.emission = d.emission;
+      if (!d.emissionGrid.empty()) {
+        GridLoadReport emissionReport;
+        m.emissionGrid = std::make_shared<DenseGrid>(loadVdbGrid(
+            d.file, d.emissionGrid, d.transform, d.field + ".emission_grid", emissionReport));
+      }
+    } else {
+      m = boxMedium(d);
+    }
+    m.interpolation = interp;
+    m.phase = PhaseFunction::make(d.phase, d.g);
+    set.media_.push_back(std::move(m));
+  }
+  return set;
+}
+
+bool MediaSet::allHomogeneous() const {
+  return std::all_of(media_.begin(), media_.end(), [](const Medium& m) { return m.homogeneous(); });
+}
+
+MediumCoefficients MediaSet::at(const Vec3& p) const {
+  MediumCoefficients sum;
+  for (const Medium& m : media_) {
+    if (!m.bounds.contains(p)) continue;
+    const MediumCoefficients c = m.at(p);
+    sum.sigmaA += c.sigmaA;
+    sum.sigmaS += c.sigmaS;
+    sum.source += c.source;
+  }
+  return sum;
+}
+
+void mergeIntervals(std::vector<std::pair<float, float>>& v) {
+  std::sort(v.begin(), v.end());
+  size_t w = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (w > 0 && v[i].first <= v[w - 1].second)
+      v[w - 1].second = std::max(v[w - 1].second, v[i].second);
+    else
+      v[w++] = v[i];
+  }
+  v.resize(w);
+}
+
+void MediaSet::intervals(const Ray& ray, float tmin, float tmax,
+                         std::vector<std::pair<float, float>>& out) const {
+  const size_t first = out.size();
+  for (const Medium& m : media_) m.intervals(ray, tmin, tmax, out);
+  if (media_.size() > 1) {
+    std::vector<std::pair<float, float>> mine(out.begin() + static_cast<ptrdiff_t>(first),
+                                              out.end());
+    mergeIntervals(mine);
+    out.resize(first);
+    out.insert(out.end(), mine.begin(), mine.end());
+  }
+}
+
+Bounds3 MediaSet::bounds() const {
+  Bounds3 b;
+  for (const Medium& m : media_) b.extend(m.bounds);
+  return b;
+}
+
+size_t MediaSet::memoryBytes() const {
+  size_t bytes = 0;
+  for (const Medium& m : media_) bytes += m.memoryBytes();
+  return bytes;
+}
+
+}  // namespace lvox

@@ -1,0 +1,41 @@
+#pragma once
+// All media of a scene. Where media overlap their coefficients add (and their sources);
+// the in-scattering of each medium keeps its own phase function.
+#include <string>
+#include <vector>
+
+#include "volume/media/medium.h"
+
+namespace lvox {
+
+class MediaSet {
+ public:
+  MediaSet() = default;
+  // Builds every medium of the scene; problems that do not stop the render (negative
+  // voxels clamped, empty grids) are appended to `warnings`.
+  static MediaSet build(const Scene& scene, std::vector<std::string>& warnings);
+
+  bool empty() const { return media_.empty(); }
+  size_t size() const { return media_.size(); }
+  const Medium& operator[](size_t i) const { return media_[i]; }
+  const std::vector<Medium>& media() const { return media_; }
+  bool allHomogeneous() const;
+
+  // Sum of the coefficients of every medium at p.
+  MediumCoefficients at(const Vec3& p) const;
+  // Sorted, merged t-intervals in [tmin, tmax] where any medium may be non-zero.
+  void intervals(const Ray& ray, float tmin, float tmax,
+                 std::vector<std::pair<float, float>>& out) const;
+  Bounds3 bounds() const;
+  size_t memoryBytes() const;
+
+  void add(Medium m) { media_.push_back(std::move(m)); }
+
+ private:
+  std::vector<Medium> media_;
+};
+
+// Sorts and merges overlapping or touching intervals in place.
+void mergeIntervals(std::vector<std::pair<float, float>>& intervals);
+
+}  // namespace lvox

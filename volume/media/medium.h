@@ -1,0 +1,54 @@
+#pragma once
+// One participating medium: a homogeneous box, a procedural density in a box, or an
+// OpenVDB density grid. A plain struct with a switch on the kind per lookup (no virtual
+// call per sample); grids are shared, immutable and thread-safe to read.
+//
+// Coefficients per unit length: sigma_t = sigma_a + sigma_s. VDB media: sigma_t =
+// density_scale * density, sigma_s = albedo * sigma_t. Box media: density (1, or the
+// procedural field) times the given sigma_a and sigma_s. The emission source term is
+// sigma_a * Le (times the emission grid where there is one).
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "src/scene/scene.h"
+#include "volume/media/dense_grid.h"
+#include "volume/phase.h"
+
+namespace lvox {
+
+struct MediumCoefficients {
+  RGB sigmaA{0.0f};
+  RGB sigmaS{0.0f};
+  RGB source{0.0f};  // sigma_a * Le
+  RGB sigmaT() const { return sigmaA + sigmaS; }
+};
+
+struct Medium {
+  MediumType type = MediumType::Homogeneous;
+  ProceduralKind procedural = ProceduralKind::Constant;
+  Bounds3 bounds;                  // world space; no medium outside
+  RGB sigmaA{0.0f}, sigmaS{0.0f};  // box media (per unit density)
+  RGB emission{0.0f};              // Le
+  PhaseFunction phase;
+  // procedural parameters (see MediumDesc)
+  Vec3 gradient, center;
+  float radius = 1.0f, frequency = 1.0f;
+  // grids
+  std::shared_ptr<const DenseGrid> density, emissionGrid;
+  float densityScale = 1.0f;
+  RGB albedo{0.0f};
+  Interpolation interpolation = Interpolation::Trilinear;
+
+  bool homogeneous() const { return type == MediumType::Homogeneous; }
+  float densityAt(const Vec3& p) const;
+  MediumCoefficients at(const Vec3& p) const;
+  // An upper bound of sigma_t anywhere (per channel).
+  RGB majorant() const;
+  // Sorted t-intervals of the ray in [tmin, tmax] where this medium may be non-zero.
+  void intervals(const Ray& ray, float tmin, float tmax,
+                 std::vector<std::pair<float, float>>& out) const;
+  size_t memoryBytes() const;
+};
+
+}  // namespace lvox
