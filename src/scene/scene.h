@@ -91,7 +91,7 @@ struct VolumeIntegratorSettings {
   float minStep = 1e-4f;
   float maxStep = 1.0f;
   std::string interpolation = "trilinear";  // nearest | trilinear | tricubic
-  std::string sampling = "distance";        // none | distance | equiangular
+  std::string sampling = "none";            // none | distance | equiangular
   uint32_t maxEvaluations = 100000;         // per ray segment, then degrade gracefully
 };
 
