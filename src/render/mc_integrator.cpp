@@ -1,6 +1,6 @@
 #include "src/render/mc_integrator.h"
 
-#include "src/render/tile_renderer.h"
+#include <cmath>
 
 namespace lvox {
 namespace {
@@ -8,54 +8,169 @@ namespace {
 struct PathCounters {
   uint64_t rays = 0;
   uint64_t paths = 0;
+  uint64_t lookups = 0;
 };
 
 float powerHeuristic(float a, float b) { return a * a / (a * a + b * b); }
+
+// Transmittance of a shadow ray that no surface blocks.
+RGB shadowTransmittance(const MajorantTracker& tracker, const Ray& shadow, Rng& rng,
+                        PathCounters& counters) {
+  return tracker.transmittance(shadow, rng, counters.lookups);
+}
 
 // Next-event estimation at a surface vertex. Area-light samples are weighted against
 // cosine-sampled continuation rays that hit the same emitter (power heuristic): alone,
 // either has unbounded variance somewhere (NEE next to an emitter, 1/d^2; continuation
 // towards small emitters). Delta lights and the environment come from NEE only.
-RGB surfaceNee(const RenderContext& ctx, const SurfaceHit& hit, const RGB& albedo, Rng& rng,
-               uint64_t& rays) {
+RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const SurfaceHit& hit,
+               const RGB& albedo, Rng& rng, PathCounters& counters) {
   RGB sum(0.0f);
   ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
     const float cosTheta = dot(s.wi, hit.normal);
     if (cosTheta <= 0.0f) return;
-    ++rays;
-    if (ctx.tracer.occluded(ctx.spawn(hit.point, hit.normal, s.wi, s.distance))) return;
+    ++counters.rays;
+    const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
+    if (ctx.tracer.occluded(shadow)) return;
     const float weight = s.fromEmitter ? powerHeuristic(s.pdf, cosTheta * kInvPi) : 1.0f;
-    sum += s.radiance * (cosTheta * weight);
+    sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) * (cosTheta * weight);
   });
   return albedo * sum * kInvPi;
 }
 
+// Next-event estimation at a medium scattering point (phase function instead of BRDF;
+// the phase's own sampling is not MIS-weighted, so continuation rays add no emission).
+RGB mediumNee(const RenderContext& ctx, const MajorantTracker& tracker, const Vec3& x,
+              const Vec3& dir, const PhaseFunction& phase, Rng& rng, PathCounters& counters) {
+  RGB sum(0.0f);
+  ctx.lights.forEachSample(x, nullptr, rng, [&](const LightSample& s) {
+    ++counters.rays;
+    Ray shadow;
+    shadow.origin = x;
+    shadow.dir = s.wi;
+    shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
+    if (ctx.tracer.occluded(shadow)) return;
+    // Light travels along -wi and continues along -dir towards the previous vertex.
+    sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) *
+           phase.eval(dot(s.wi, dir));
+  });
+  return sum;
+}
+
+struct Collision {
+  bool scattered = false;
+  bool absorbed = false;
+  float t = 0.0f;
+  size_t medium = 0;  // the medium whose phase function scatters
+};
+
+// Weighted delta tracking along [0, tEnd]: updates the throughput for null and scattering
+// events (per channel, against channel-averaged event probabilities) and adds emission on
+// absorption. Returns where the path scatters or is absorbed, if it does.
+Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd, Rng& rng,
+                     RGB& throughput, RGB& radiance, PathCounters& counters) {
+  Collision c;
+  thread_local std::vector<MajorantSegment> segs;
+  tracker.segments(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, false, segs);
+  const MediaSet& media = tracker.media();
+  for (const MajorantSegment& s : segs) {
+    float t = s.t0;
+    while (true) {
+      t -= std::log(1.0f - rng.uniform()) / s.majorant;
+      if (t >= s.t1) break;
+      const Vec3 x = ray.at(t);
+      MediumCoefficients total;
+      for (const Medium& m : media.media()) {
+        if (!m.bounds.contains(x)) continue;
+        const MediumCoefficients mc = m.at(x);
+        total.sigmaA += mc.sigmaA;
+        total.sigmaS += mc.sigmaS;
+        total.source += mc.source;
+      }
+      ++counters.lookups;
+      const float pA = average(total.sigmaA) / s.majorant;
+      const float pS = average(total.sigmaS) / s.majorant;
+      const float u = rng.uniform();
+      if (u < pA) {
+        radiance += throughput * total.source / (s.majorant * pA);
+        c.absorbed = true;
+        c.t = t;
+        return c;
+      }
+      if (u < pA + pS) {
+        throughput *= total.sigmaS / (s.majorant * pS);
+        c.scattered = true;
+        c.t = t;
+        // Pick the scattering medium in proportion to its sigma_s (its phase applies).
+        if (media.size() > 1) {
+          float pick = rng.uniform() * average(total.sigmaS);
+          for (size_t i = 0; i < media.size(); ++i) {
+            if (!media[i].bounds.contains(x)) continue;
+            pick -= average(media[i].at(x).sigmaS);
+            c.medium = i;
+            if (pick <= 0.0f) break;
+          }
+        }
+        return c;
+      }
+      const float pN = 1.0f - pA - pS;
+      const RGB sigmaN = RGB(s.majorant) - total.sigmaA - total.sigmaS;
+      throughput *=
+          RGB(std::max(0.0f, sigmaN.x), std::max(0.0f, sigmaN.y), std::max(0.0f, sigmaN.z)) /
+          (s.majorant * std::max(pN, 1e-12f));
+    }
+  }
+  return c;
+}
+
 // Emitters hit by continuation rays count with the MIS weight that complements
 // surfaceNee; escaping continuation rays add nothing (the environment is NEE only).
-RGB tracePath(const RenderContext& ctx, const LightSet& neeLights, Ray ray, Rng& rng,
+RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
               PathCounters& counters) {
   const Scene& scene = ctx.scene;
   const int maxEvents = scene.render.maxBounces;
   RGB radiance(0.0f), throughput(1.0f);
-  const RenderContext neeCtx{scene, ctx.tracer, neeLights};
-  float bsdfPdf = 0.0f;  // solid-angle pdf of the continuation ray that is being traced
+  float bsdfPdf = 0.0f;  // solid-angle pdf of the surface continuation being traced (0: none)
+  const bool media = !tracker.media().empty();
   ++counters.paths;
   for (int event = 1;; ++event) {
     SurfaceHit hit;
     ++counters.rays;
-    if (!ctx.tracer.intersect(ray, hit)) {
+    const bool hitSurface = ctx.tracer.intersect(ray, hit);
+    if (media) {
+      const Collision c =
+          deltaTrack(tracker, ray, hitSurface ? hit.t : kInf, rng, throughput, radiance, counters);
+      if (c.absorbed) break;
+      if (c.scattered) {
+        if (event > maxEvents) break;
+        const Vec3 x = ray.at(c.t);
+        const PhaseFunction& phase = tracker.media()[c.medium].phase;
+        radiance += throughput * mediumNee(ctx, tracker, x, ray.dir, phase, rng, counters);
+        if (event >= 3) {
+          const float survive = std::min(1.0f, maxComponent(throughput));
+          if (rng.uniform() >= survive) break;
+          throughput /= survive;
+        }
+        float pdf;
+        const Vec3 next = phase.sample(ray.dir, rng.uniform(), rng.uniform(), pdf);
+        ray = Ray{x, next, 0.0f, kInf};
+        bsdfPdf = 0.0f;  // phase sampling is not MIS-weighted against emitters
+        continue;
+      }
+    }
+    if (!hitSurface) {
       if (event == 1) radiance += throughput * ctx.lights.environment();
       break;
     }
     const Material& m = scene.materials[scene.mesh.triangleMaterial[hit.triangle]];
     if (event == 1) {
       radiance += throughput * m.emission;
-    } else if (m.isEmissive()) {
-      const float lightPdf = neeLights.areaPdf(hit.t, std::abs(dot(hit.normal, ray.dir)));
+    } else if (m.isEmissive() && bsdfPdf > 0.0f) {
+      const float lightPdf = ctx.lights.areaPdf(hit.t, std::abs(dot(hit.normal, ray.dir)));
       radiance += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
     }
     if (event > maxEvents) break;
-    radiance += throughput * surfaceNee(neeCtx, hit, m.albedo, rng, counters.rays);
+    radiance += throughput * surfaceNee(ctx, tracker, hit, m.albedo, rng, counters);
     // After the last allowed event the continuation ray is still traced: it can only add
     // emission (the MIS complement of this vertex's NEE), never another scattering.
     // Cosine-weighted continuation: f cos / pdf = albedo.
@@ -75,15 +190,16 @@ RGB tracePath(const RenderContext& ctx, const LightSet& neeLights, Ray ray, Rng&
 
 }  // namespace
 
-PixelSampler monteCarloSampler(const RenderContext& ctx, const LightSet& neeLights,
+PixelSampler monteCarloSampler(const RenderContext& neeCtx, const MajorantTracker& tracker,
                                SamplerCounters& counters) {
-  return [&ctx, &neeLights, &counters](int x, int y, Rng& rng) {
+  return [&neeCtx, &tracker, &counters](int x, int y, Rng& rng) {
     PathCounters local;
-    const Ray ray = ctx.scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
-                                                 static_cast<float>(y) + rng.uniform());
-    const RGB l = tracePath(ctx, neeLights, ray, rng, local);
+    const Ray ray = neeCtx.scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
+                                                    static_cast<float>(y) + rng.uniform());
+    const RGB l = tracePath(neeCtx, tracker, ray, rng, local);
     counters.pathRays.fetch_add(local.rays, std::memory_order_relaxed);
     counters.paths.fetch_add(local.paths, std::memory_order_relaxed);
+    counters.mediumEvals.fetch_add(local.lookups, std::memory_order_relaxed);
     return l;
   };
 }

@@ -45,12 +45,14 @@ RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& rep
     media = MediaSet::build(scene, report.warnings);
   }
   const VolumeTransport volume(ctx, media);
+  const RenderContext neeCtx{scene, *tracer, singleSampleLights};
+  const MajorantTracker tracker(media, scene.volume.majorantGrid);
   report.memory["media"] = media.memoryBytes();
   SamplerCounters counters;
   std::unique_ptr<PointCloud> cloud;
   PixelSampler sampler;
   if (scene.render.mode == "mc") {
-    sampler = monteCarloSampler(ctx, singleSampleLights, counters);
+    sampler = monteCarloSampler(neeCtx, tracker, counters);
   } else if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels") {
     cloud = buildPointCloud(ctx, report);
     sampler = pcbSampler(ctx, *cloud, plan.spp, counters);

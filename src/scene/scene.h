@@ -93,6 +93,7 @@ struct VolumeIntegratorSettings {
   std::string interpolation = "trilinear";  // nearest | trilinear | tricubic
   std::string sampling = "none";            // none | distance | equiangular
   uint32_t maxEvaluations = 100000;         // per ray segment, then degrade gracefully
+  bool majorantGrid = true;  // mc: per-block majorants of VDB grids (false: one per medium)
 };
 
 struct PointCloudSettings {

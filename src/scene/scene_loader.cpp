@@ -265,6 +265,10 @@ void parseVolumeIntegrator(JsonObject v, VolumeIntegratorSettings& s) {
   if (s.sampling != "none" && s.sampling != "distance" && s.sampling != "equiangular")
     v.fail("sampling", "unknown sampling '" + s.sampling + "' (none, distance, equiangular)");
   s.maxEvaluations = static_cast<uint32_t>(v.integer("max_evaluations", 1, 1 << 30, 100000));
+  const std::string majorant = v.string("majorant", "grid");
+  if (majorant != "grid" && majorant != "global")
+    v.fail("majorant", "unknown majorant '" + majorant + "' (grid, global)");
+  s.majorantGrid = majorant == "grid";
   v.finish();
 }
 

@@ -93,60 +93,37 @@ Bounds3 DenseGrid::worldBounds() const {
 
 void DenseGrid::intervals(const Ray& ray, float tmin, float tmax,
                           std::vector<std::pair<float, float>>& out) const {
-  if (empty()) return;
-  // The same ray in array coordinates; t is preserved because the map is affine.
-  const Vec3 o(static_cast<float>(origin.x), static_cast<float>(origin.y),
-               static_cast<float>(origin.z));
-  Ray local;
-  local.origin = worldToIndex.point(ray.origin) - o;
-  local.dir = worldToIndex.vector(ray.dir);
-  local.tmin = tmin;
-  local.tmax = tmax;
-  float t0, t1;
-  if (!arrayBounds().intersect(local, t0, t1)) return;
-  // Amanatides-Woo DDA over 8^3 blocks; positions in the padding belong to edge blocks.
-  const float k = static_cast<float>(kBlock);
-  const Vec3 start = local.at(t0);
-  int cell[3], step[3], dims[3] = {bx, by, bz};
-  float tNext[3], tDelta[3];
-  for (int a = 0; a < 3; ++a) {
-    cell[a] = std::clamp(static_cast<int>(std::floor(start[a] / k)), 0, dims[a] - 1);
-    const float d = local.dir[a];
-    if (d > 0.0f) {
-      step[a] = 1;
-      tNext[a] = t0 + ((static_cast<float>(cell[a] + 1) * k) - start[a]) / d;
-      tDelta[a] = k / d;
-    } else if (d < 0.0f) {
-      step[a] = -1;
-      tNext[a] = t0 + ((static_cast<float>(cell[a]) * k) - start[a]) / d;
-      tDelta[a] = -k / d;
-    } else {
-      step[a] = 0;
-      tNext[a] = kInf;
-      tDelta[a] = kInf;
-    }
-    // Edge blocks own the padding: their far boundary is the padded box.
-    if (step[a] > 0 && cell[a] == dims[a] - 1) tNext[a] = kInf;
-    if (step[a] < 0 && cell[a] == 0) tNext[a] = kInf;
-  }
-  float t = t0;
-  while (t < t1) {
-    const int axis =
-        tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-    const float exit = std::min(tNext[axis], t1);
-    if (blockOccupied[(static_cast<size_t>(cell[2]) * by + cell[1]) * bx + cell[0]]) {
-      if (!out.empty() && out.back().second >= t - 1e-6f)
-        out.back().second = exit;
-      else
-        out.emplace_back(t, exit);
-    }
-    t = exit;
-    if (tNext[axis] == kInf) break;
-    cell[axis] += step[axis];
-    tNext[axis] += tDelta[axis];
-    if (cell[axis] == 0 && step[axis] < 0) tNext[axis] = kInf;
-    if (cell[axis] == dims[axis] - 1 && step[axis] > 0) tNext[axis] = kInf;
-  }
+  forEachBlock(ray, tmin, tmax, [&](float t0, float t1, size_t block) {
+    if (!blockOccupied[block]) return;
+    if (!out.empty() && out.back().second >= t0 - 1e-6f)
+      out.back().second = t1;
+    else
+      out.emplace_back(t0, t1);
+  });
+}
+
+void DenseGrid::computeBlockMax() {
+  std::vector<float> own(static_cast<size_t>(bx) * by * bz, 0.0f);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        float& m = own[(static_cast<size_t>(z / kBlock) * by + y / kBlock) * bx + x / kBlock];
+        m = std::max(m, voxel(x, y, z));
+      }
+  blockMax.assign(own.size(), 0.0f);
+  for (int z = 0; z < bz; ++z)
+    for (int y = 0; y < by; ++y)
+      for (int x = 0; x < bx; ++x) {
+        float m = 0.0f;
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int X = x + dx, Y = y + dy, Z = z + dz;
+              if (X >= 0 && Y >= 0 && Z >= 0 && X < bx && Y < by && Z < bz)
+                m = std::max(m, own[(static_cast<size_t>(Z) * by + Y) * bx + X]);
+            }
+        blockMax[(static_cast<size_t>(z) * by + y) * bx + x] = m;
+      }
 }
 
 }  // namespace lvox

@@ -168,6 +168,7 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                 dense.blockOccupied[(static_cast<size_t>(Z) * dense.by + Y) * dense.bx + X] = 1;
             }
       }
+  dense.computeBlockMax();
   return dense;
 }
 

@@ -1,0 +1,103 @@
+#include "src/render/majorant_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lvox {
+namespace {
+
+void mediumSegments(const Medium& m, const Ray& ray, float tmin, float tmax, bool useGrid,
+                    std::vector<MajorantSegment>& out) {
+  if (m.type == MediumType::Vdb && useGrid) {
+    const float scale = m.densityScale;
+    m.density->forEachBlock(ray, tmin, tmax, [&](float t0, float t1, size_t block) {
+      const float maj = scale * m.density->blockMax[block];
+      if (maj <= 0.0f) return;
+      if (!out.empty() && out.back().majorant == maj && out.back().t1 >= t0 - 1e-6f)
+        out.back().t1 = t1;
+      else
+        out.push_back({t0, t1, maj});
+    });
+    return;
+  }
+  const float maj = maxComponent(m.majorant());
+  if (maj <= 0.0f) return;
+  std::vector<std::pair<float, float>> spans;
+  m.intervals(ray, tmin, tmax, spans);
+  for (const auto& [a, b] : spans) out.push_back({a, b, maj});
+}
+
+}  // namespace
+
+void MajorantTracker::segments(const Ray& ray, float tmin, float tmax, bool heterogeneousOnly,
+                               std::vector<MajorantSegment>& out) const {
+  out.clear();
+  std::vector<MajorantSegment> all;
+  size_t contributing = 0;
+  for (const Medium& m : media_.media()) {
+    if (heterogeneousOnly && m.homogeneous()) continue;
+    const size_t before = all.size();
+    mediumSegments(m, ray, tmin, tmax, useGrid_, all);
+    contributing += all.size() > before ? 1 : 0;
+  }
+  if (contributing <= 1) {
+    out = std::move(all);
+    return;
+  }
+  // Overlapping media: majorants add. Sweep over the segment ends.
+  std::vector<std::pair<float, float>> events;  // (t, +-majorant)
+  for (const MajorantSegment& s : all) {
+    events.emplace_back(s.t0, s.majorant);
+    events.emplace_back(s.t1, -s.majorant);
+  }
+  std::sort(events.begin(), events.end());
+  float current = 0.0f;
+  for (size_t i = 0; i + 1 < events.size(); ++i) {
+    current += events[i].second;
+    const float a = events[i].first, b = events[i + 1].first;
+    if (b > a && current > 1e-12f) out.push_back({a, b, current});
+  }
+}
+
+RGB MajorantTracker::transmittance(const Ray& ray, Rng& rng, uint64_t& lookups) const {
+  if (media_.empty()) return RGB(1.0f);
+  const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
+  RGB tau(0.0f);
+  bool heterogeneous = false;
+  std::vector<std::pair<float, float>> spans;
+  for (const Medium& m : media_.media()) {
+    if (!m.homogeneous()) {
+      heterogeneous = true;
+      continue;
+    }
+    spans.clear();
+    m.intervals(ray, ray.tmin, tmax, spans);
+    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
+  }
+  RGB tr(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
+  if (!heterogeneous) return tr;
+  thread_local std::vector<MajorantSegment> segs;
+  segments(ray, ray.tmin, tmax, true, segs);
+  for (const MajorantSegment& s : segs) {
+    float t = s.t0;
+    while (true) {
+      t -= std::log(1.0f - rng.uniform()) / s.majorant;
+      if (t >= s.t1) break;
+      const Vec3 x = ray.at(t);
+      RGB sigmaT(0.0f);
+      for (const Medium& m : media_.media())
+        if (!m.homogeneous() && m.bounds.contains(x)) sigmaT += m.at(x).sigmaT();
+      ++lookups;
+      tr *= RGB(1.0f) - sigmaT / s.majorant;
+      // Russian roulette on small transmittance keeps the estimator unbiased.
+      const float m = maxComponent(tr);
+      if (m < 0.1f) {
+        if (rng.uniform() >= m / 0.1f) return RGB(0.0f);
+        tr /= m / 0.1f;
+      }
+    }
+  }
+  return tr;
+}
+
+}  // namespace lvox

@@ -1,0 +1,39 @@
+#pragma once
+// Delta tracking (free-flight sampling) and ratio tracking (transmittance) through the
+// scene's media against piecewise-constant majorants: per 8^3 block of a VDB grid (the
+// majorant grid, built from the tree's blocks) or one global majorant per medium, so the
+// reference can be timed both ways. Homogeneous media have an exact majorant (no null
+// collisions) and analytic transmittance.
+#include <vector>
+
+#include "src/core/rng.h"
+#include "volume/media/media_set.h"
+
+namespace lvox {
+
+struct MajorantSegment {
+  float t0, t1;
+  float majorant;  // >= sigma_t of every channel on [t0, t1)
+};
+
+class MajorantTracker {
+ public:
+  MajorantTracker(const MediaSet& media, bool useGrid) : media_(media), useGrid_(useGrid) {}
+
+  // Piecewise-constant majorant of all media (or of the heterogeneous ones only) along
+  // [tmin, tmax]; pieces with majorant 0 are left out.
+  void segments(const Ray& ray, float tmin, float tmax, bool heterogeneousOnly,
+                std::vector<MajorantSegment>& out) const;
+
+  // Transmittance along [ray.tmin, ray.tmax]: exact through homogeneous media, ratio
+  // tracking through the others (unbiased). `lookups` counts medium evaluations.
+  RGB transmittance(const Ray& ray, Rng& rng, uint64_t& lookups) const;
+
+  const MediaSet& media() const { return media_; }
+
+ private:
+  const MediaSet& media_;
+  bool useGrid_;
+};
+
+}  // namespace lvox
