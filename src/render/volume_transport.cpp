@@ -28,7 +28,7 @@ constexpr size_t kMaxMedia = 8;  // media evaluated per point without allocation
 }  // namespace
 
 VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media)
-    : ctx_(ctx), media_(media) {
+    : ctx_(ctx), media_(media), mediumLights_(ctx.scene, ctx.scene.render.mediumLightSamples) {
   const Scene& scene = ctx.scene;
   const VolumeIntegratorSettings& v = scene.volume;
   method_ = rte::parseMethod(v.solver, scene.path, "volume_integrator.solver");
@@ -112,7 +112,7 @@ RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
                                          const MediumCoefficients* perMedium, Rng lightRng,
                                          rte::SolveCounts& counts) const {
   RGB source(0.0f);
-  ctx_.lights.forEachSample(x, nullptr, lightRng, [&](const LightSample& s) {
+  mediumLights_.forEachSample(x, nullptr, lightRng, [&](const LightSample& s) {
     Ray shadow;
     shadow.origin = x;
     shadow.dir = s.wi;

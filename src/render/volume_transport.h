@@ -37,6 +37,7 @@ class VolumeTransport {
 
   const RenderContext& ctx_;
   const MediaSet& media_;
+  LightSet mediumLights_;  // render.medium_light_samples per area light and environment
   rte::Method method_;
   rte::SolveSettings<float> base_;
   bool equiangular_ = false;

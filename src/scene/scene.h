@@ -110,7 +110,8 @@ struct RenderSettings {
   int spp = 4;
   int maxBounces = 8;
   uint64_t seed = 1;
-  int areaLightSamples = 16;  // shadow rays per emissive-shape sample at each shading point
+  int areaLightSamples = 16;  // shadow rays per area light (and environment) at a surface point
+  int mediumLightSamples = 1;  // the same at each medium evaluation (fixed along a camera ray)
   int threads = 0;            // 0: all cores
 };
 

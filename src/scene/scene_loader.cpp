@@ -84,6 +84,7 @@ void parseRender(JsonObject r, RenderSettings& s) {
   s.maxBounces = r.integer("max_bounces", 0, 1 << 16, s.maxBounces);
   s.seed = static_cast<uint64_t>(r.integer("seed", 0, std::numeric_limits<int>::max(), 1));
   s.areaLightSamples = r.integer("area_light_samples", 1, 1 << 16, s.areaLightSamples);
+  s.mediumLightSamples = r.integer("medium_light_samples", 1, 1 << 16, s.mediumLightSamples);
   s.threads = r.integer("threads", 0, 1024, s.threads);
   r.finish();
 }
