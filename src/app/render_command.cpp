@@ -28,6 +28,7 @@ struct RenderFlags {
   std::optional<int> maxBounces;
   std::optional<uint64_t> seed;
   std::optional<int> threads;
+  std::optional<int> width, height;
   std::optional<std::string> solver;
   std::optional<float> step;
   std::optional<float> tolerance;
@@ -60,6 +61,8 @@ void applyOverrides(const RenderFlags& f, Scene& scene) {
   if (f.maxBounces) scene.render.maxBounces = *f.maxBounces;
   if (f.seed) scene.render.seed = *f.seed;
   if (f.threads) scene.render.threads = *f.threads;
+  if (f.width) scene.camera.width = *f.width;
+  if (f.height) scene.camera.height = *f.height;
   if (f.solver) scene.volume.solver = *f.solver;
   if (f.step) scene.volume.step = *f.step;
   if (f.tolerance) scene.volume.tolerance = *f.tolerance;
@@ -139,6 +142,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--seed", flags->seed, "Random seed");
   cmd->add_option("--threads", flags->threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--width", flags->width, "Image width")->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", flags->height, "Image height")->check(CLI::Range(1, 16384));
   cmd->add_option("--solver", flags->solver, "Volume solver (see docs/solvers.md)");
   cmd->add_option("--step", flags->step, "Volume step in scene units")->check(CLI::PositiveNumber);
   cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers")
