@@ -77,4 +77,45 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
   }
 }
 
+// Interreflection: `passes` Jacobi passes over the whole cloud. Each pass gathers, from
+// the cloud as it stands, the irradiance at both sides of every surfel (its radiance
+// becomes direct + albedo E / pi) and the in-scattered radiance at every lvoxel (its
+// multiScatter), then refreshes the aggregates: pass n adds the light that bounced n
+// more times, between surfaces and media alike. The direct radiance is the surfels'
+// radiance on entry (call cacheDirectLight first). Few rays per surfel suffice when the
+// camera's final gather averages over many surfels; the noise of each is then averaged
+// out.
+template <class Phase>
+void cacheInterreflection(PointCloud& cloud, const Phase& phase, const GatherOptions& surfelOptions,
+                          const GatherOptions& lvoxelOptions, int passes, uint64_t seed) {
+  SurfelSet& s = cloud.mutableSurfels();
+  LvoxelSet& l = cloud.mutableLvoxels();
+  const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
+  std::vector<RGB> front(s.size()), back(s.size()), multi(l.size());
+  for (int pass = 0; pass < passes; ++pass) {
+    const uint64_t passKey = static_cast<uint64_t>(pass) << 40;
+    tbb::parallel_for(size_t(0), s.size(), [&](size_t i) {
+      Rng rng(seed ^ 0x5f1ce5u, passKey ^ i);
+      TraversalScratch scratch;
+      const RGB ef =
+          gatherIrradiance(cloud, s.position[i], s.normal[i], surfelOptions, rng, scratch);
+      const RGB eb =
+          gatherIrradiance(cloud, s.position[i], -s.normal[i], surfelOptions, rng, scratch);
+      front[i] = directFront[i] + s.albedo[i] * (isFinite(ef) ? ef : RGB(0.0f)) * kInvPi;
+      back[i] = directBack[i] + s.albedo[i] * (isFinite(eb) ? eb : RGB(0.0f)) * kInvPi;
+    });
+    tbb::parallel_for(size_t(0), l.size(), [&](size_t i) {
+      Rng rng(seed, passKey ^ i);
+      TraversalScratch scratch;
+      const RGB in =
+          gatherInScatter(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng, scratch);
+      multi[i] = isFinite(in) ? in : RGB(0.0f);
+    });
+    s.radianceFront = front;
+    s.radianceBack = back;
+    l.multiScatter = multi;
+    cloud.updateAggregates();
+  }
+}
+
 }  // namespace lvox

@@ -30,7 +30,16 @@ class LightSet {
   // With `normal`, the environment is sampled cosine-weighted about it (surfaces);
   // without, uniformly over the sphere (media).
   template <class F>
-  void forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const;
+  void forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
+    forEachDeltaSample(p, f);
+    forEachAreaSample(p, normal, rng, f);
+  }
+  // Only the point, spot and directional lights (no random numbers).
+  template <class F>
+  void forEachDeltaSample(const Vec3& p, F&& f) const;
+  // Only the environment and the emissive triangles.
+  template <class F>
+  void forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const;
 
   bool hasAreaLights() const { return !emissiveTriangles_.empty(); }
   float emissiveArea() const { return totalArea_; }
@@ -57,11 +66,15 @@ class LightSet {
 };
 
 template <class F>
-void LightSet::forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
+void LightSet::forEachDeltaSample(const Vec3& p, F&& f) const {
   for (const Light& light : lights_) {
     LightSample s = sampleDelta(light, p);
     if (!isBlack(s.radiance)) f(s);
   }
+}
+
+template <class F>
+void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
   const float weight = 1.0f / static_cast<float>(areaSamples_);
   if (!isBlack(environment_)) {
     for (int i = 0; i < areaSamples_; ++i) {

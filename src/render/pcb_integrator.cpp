@@ -1,10 +1,14 @@
 #include "src/render/pcb_integrator.h"
 
+#include <tbb/combinable.h>
+
 #include <cmath>
 
 #include "pointcloud/gather.h"
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
+#include "src/render/direct_integrator.h"
+#include "src/render/pcb_media.h"
 #include "src/render/surface_direct.h"
 
 namespace lvox {
@@ -30,84 +34,175 @@ GatherOptions gatherOptions(const Scene& scene, float spacing, int samples) {
   o.maxSolidAngle = scene.pointcloud.clusterSolidAngle;
   // Gather rays start half a spacing out, past the receiver's own (possibly tilted) disks.
   o.rayOffset = 0.5f * spacing;
+  // Light from the environment is in the direct caches already.
   o.background = RGB(0.0f);
   return o;
 }
 
+SurfelSet sampleSurfels(const RenderContext& ctx, float spacing) {
+  const Scene& scene = ctx.scene;
+  if (!(spacing > 0.0f)) return {};  // no surfaces (a scene of media only)
+  if (scene.pointcloud.surfelSampler == "camera")
+    return sampleSurfelsFromCamera(
+        ctx.tracer, scene.materials, scene.camera,
+        CameraSurfelSettings{0.1f, 2.0f, 1.15f, 0.1f, scene.render.seed});
+  UniformSurfelSettings settings;
+  settings.spacing = spacing;
+  settings.seed = scene.render.seed;
+  return sampleSurfelsUniform(scene.mesh, scene.materials, settings);
+}
+
+// Direct light on surfels (exact shadow rays, transmittance through the media) and on
+// lvoxels (from the field).
+void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
+                 rte::SolveCounts& counts) {
+  const Scene& scene = ctx.scene;
+  PointCloud& cloud = *cache.cloud;
+  if (cache.lvoxels) cacheLvoxelDirectLight(ctx, volume, cache.field, counts);
+  tbb::combinable<rte::SolveCounts> perThread;
+  cacheDirectLight(
+      cloud,
+      [&](const SurfelLightQuery& q) {
+        SurfaceHit hit;
+        hit.point = q.position;
+        hit.normal = q.normal;
+        Rng rng(scene.render.seed ^ 0x5eedu,
+                (static_cast<uint64_t>(q.index) << 1) |
+                    (dot(q.normal, cloud.surfels().normal[q.index]) < 0));
+        rte::SolveCounts& local = perThread.local();
+        auto throughMedia = [&](const Ray& shadow) { return volume.transmittance(shadow, local); };
+        uint64_t rays = 0;
+        const Material& m = scene.materials[scene.mesh.triangleMaterial[q.triangle]];
+        return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
+      },
+      [&](const LvoxelLightQuery& q) {
+        const long slot = cache.field.slotOf(q.position);
+        return slot < 0 ? RGB(0.0f)
+                        : phaseAveragedDirect(ctx.lights, cache.field, static_cast<uint32_t>(slot));
+      });
+  perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
+}
+
+void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
+  const PointCloud& cloud = *cache.cloud;
+  const PointCloudMemory mem = cloud.memory();
+  report.add("surfels", cloud.surfels().size());
+  report.add("lvoxels", cloud.lvoxels().size());
+  report.add("octree_nodes", cloud.nodes().size());
+  report.memory["surfels"] = mem.surfelBytes;
+  report.memory["lvoxels"] = mem.lvoxelBytes;
+  report.memory["point_cloud"] = mem.surfelBytes + mem.lvoxelBytes;
+  report.memory["octree"] = mem.octreeBytes;
+  report.memory["lvoxel_field"] = cache.field.memoryBytes();
+  report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
+  report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
+  report.memory["bytes_per_node"] = PointCloud::bytesPerNode();
+  report.settings["surfel_spacing"] = std::to_string(spacing);
+  if (cache.lvoxels) report.settings["lvoxel_spacing"] = std::to_string(cache.field.spacing());
+}
+
 }  // namespace
 
-std::unique_ptr<PointCloud> buildPointCloud(const RenderContext& ctx, Report& report) {
+PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
+                                Report& report) {
   const Scene& scene = ctx.scene;
   const float spacing = surfelSpacing(scene);
+  PointBasedCache cache;
+  cache.lvoxels = scene.render.mode == "pcb" && !volume.empty();
   SurfelSet surfels;
   {
     PhaseTimer timer(report, "surfel_sampling");
-    if (scene.pointcloud.surfelSampler == "camera") {
-      surfels =
-          sampleSurfelsFromCamera(ctx.tracer, scene.materials, scene.camera,
-                                  CameraSurfelSettings{0.1f, 2.0f, 1.15f, 0.1f, scene.render.seed});
-    } else {
-      UniformSurfelSettings settings;
-      settings.spacing = spacing;
-      settings.seed = scene.render.seed;
-      surfels = sampleSurfelsUniform(scene.mesh, scene.materials, settings);
-    }
+    surfels = sampleSurfels(ctx, spacing);
   }
-  std::unique_ptr<PointCloud> cloud;
+  LvoxelSet lvoxels;
+  if (cache.lvoxels) {
+    PhaseTimer timer(report, "lvoxel_sampling");
+    cache.field = LvoxelField(volume.media().bounds(), lvoxelSpacing(scene, volume.media()),
+                              lvoxelFieldChannels(ctx.lights));
+    lvoxels = sampleSceneLvoxels(scene, volume.media(), cache.field);
+    cache.lvoxels = lvoxels.size() > 0;
+  }
   {
     PhaseTimer timer(report, "octree_build");
-    cloud = std::make_unique<PointCloud>(std::move(surfels), LvoxelSet{});
+    cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels));
   }
+  rte::SolveCounts counts;
   {
     PhaseTimer timer(report, "direct_cache");
-    auto noMedia = [](const Ray&) { return RGB(1.0f); };
-    cacheDirectLight(
-        *cloud,
-        [&](const SurfelLightQuery& q) {
-          SurfaceHit hit;
-          hit.point = q.position;
-          hit.normal = q.normal;
-          Rng rng(scene.render.seed ^ 0x5eedu,
-                  (static_cast<uint64_t>(q.index) << 1) |
-                      (dot(q.normal, cloud->surfels().normal[q.index]) < 0));
-          uint64_t rays = 0;
-          const Material& m = scene.materials[scene.mesh.triangleMaterial[q.triangle]];
-          return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, noMedia, rays);
-        },
-        [](const LvoxelLightQuery&) { return RGB(0.0f); });
+    cacheDirect(ctx, volume, cache, counts);
   }
-  const PointCloudMemory mem = cloud->memory();
-  report.add("surfels", cloud->surfels().size());
-  report.add("lvoxels", cloud->lvoxels().size());
-  report.add("octree_nodes", cloud->nodes().size());
-  report.memory["point_cloud"] = mem.surfelBytes + mem.lvoxelBytes;
-  report.memory["octree"] = mem.octreeBytes;
-  report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
-  report.settings["surfel_spacing"] = std::to_string(spacing);
-  return cloud;
+  const int passes = scene.pointcloud.bounces;
+  if (passes > 0) {
+    PhaseTimer timer(report, "interreflection");
+    const GatherOptions surfelOptions =
+        gatherOptions(scene, spacing, scene.pointcloud.surfelGatherSamples);
+    GatherOptions lvoxelOptions =
+        gatherOptions(scene, spacing, scene.pointcloud.lvoxelGatherSamples);
+    lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
+    cacheInterreflection(*cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes,
+                         scene.render.seed);
+    if (cache.lvoxels) addMultipleScattering(cache.cloud->lvoxels(), cache.field);
+    const PointCloud& cloud = *cache.cloud;
+    report.add("cache_gather_rays",
+               static_cast<uint64_t>(passes) *
+                   (2 * cloud.surfels().size() * static_cast<uint64_t>(surfelOptions.samples) +
+                    cloud.lvoxels().size() * static_cast<uint64_t>(lvoxelOptions.samples)));
+  }
+  report.add("cache_medium_evals", counts.mediumEvals);
+  reportCloud(cache, spacing, report);
+  if (scene.pointcloud.gatherSpacing > 1) {
+    PhaseTimer timer(report, "gather_grid");
+    const GatherOptions options = gatherOptions(scene, spacing, scene.pointcloud.gatherSamples);
+    cache.gathers =
+        IndirectGrid(ctx, *cache.cloud, options, scene.pointcloud.gatherSpacing, scene.render.seed);
+    report.add("grid_gathers", cache.gathers.pointCount());
+    report.add("grid_gather_rays",
+               cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));
+  }
+  return cache;
 }
 
-PixelSampler pcbSampler(const RenderContext& ctx, const PointCloud& cloud, int spp,
-                        SamplerCounters& counters) {
+PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
+                        const PointBasedCache& cache, int spp, SamplerCounters& counters) {
   const Scene& scene = ctx.scene;
   const int perSample = std::max(1, scene.pointcloud.gatherSamples / std::max(1, spp));
   const GatherOptions options = gatherOptions(scene, surfelSpacing(scene), perSample);
-  return [&ctx, &cloud, &counters, options](int x, int y, Rng& rng) {
+  return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng) {
     const Scene& sc = ctx.scene;
-    const Ray ray = sc.camera.generateRay(static_cast<float>(x) + rng.uniform(),
-                                          static_cast<float>(y) + rng.uniform());
+    const float px = static_cast<float>(x) + rng.uniform();
+    const float py = static_cast<float>(y) + rng.uniform();
+    const Ray ray = sc.camera.generateRay(px, py);
+    rte::SolveCounts solveCounts;
     SurfaceHit hit;
-    if (!ctx.tracer.intersect(ray, hit)) return ctx.lights.environment();
-    const Material& m = sc.materials[sc.mesh.triangleMaterial[hit.triangle]];
-    uint64_t shadowRays = 0;
-    auto noMedia = [](const Ray&) { return RGB(1.0f); };
-    const RGB direct = surfaceDirect(ctx, hit, m.albedo, rng, noMedia, shadowRays);
-    thread_local TraversalScratch scratch;
-    const RGB irradiance = gatherIrradiance(cloud, hit.point, hit.normal, options, rng, scratch);
-    counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-    counters.gatherRays.fetch_add(static_cast<uint64_t>(options.samples),
-                                  std::memory_order_relaxed);
-    return m.emission + direct + m.albedo * irradiance * kInvPi;
+    const bool hitSurface = ctx.tracer.intersect(ray, hit);
+    RGB behind = ctx.lights.environment();
+    if (hitSurface) {
+      const Material& m = sc.materials[sc.mesh.triangleMaterial[hit.triangle]];
+      uint64_t shadowRays = 0;
+      auto throughMedia = [&](const Ray& shadow) {
+        return volume.transmittance(shadow, solveCounts);
+      };
+      const RGB direct = surfaceDirect(ctx, hit, m.albedo, rng, throughMedia, shadowRays);
+      RGB irradiance;
+      if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
+        thread_local TraversalScratch scratch;
+        irradiance = gatherIrradiance(*cache.cloud, hit.point, hit.normal, options, rng, scratch);
+        counters.gatherRays.fetch_add(static_cast<uint64_t>(options.samples),
+                                      std::memory_order_relaxed);
+      }
+      counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
+      behind = m.emission + direct + m.albedo * irradiance * kInvPi;
+    }
+    const float tEnd = hitSurface ? hit.t : kInf;
+    RGB l;
+    if (cache.lvoxels) {
+      const PointCloudScatter scatter{cache.field, ctx.lights, volume.media()};
+      l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts);
+    } else {
+      l = volume.radiance(ray, tEnd, behind, rng, solveCounts);
+    }
+    addSolveCounts(counters, solveCounts);
+    return l;
   };
 }
 

@@ -2,22 +2,36 @@
 // --mode pcb and pcb-surfels: the two-phase point-based renderer (Gibson 2011).
 // Phase 1 samples surfels (and, in pcb mode, lvoxels) into one octree and caches direct
 // light on them; phase 2 shades camera hits with exact direct light plus indirect light
-// gathered from the cloud by front-to-back traversal.
+// gathered from the cloud by front-to-back traversal, and solves the RTE along camera
+// rays through media: with the in-scatter source read from the lvoxels (pcb), or with
+// exact single scattering (pcb-surfels, the traditional baseline).
 #include <memory>
 
 #include "pointcloud/point_cloud.h"
+#include "src/render/indirect_grid.h"
+#include "src/render/lvoxel_field.h"
 #include "src/render/render_context.h"
 #include "src/render/report.h"
 #include "src/render/sampler_counters.h"
 #include "src/render/tile_renderer.h"
+#include "src/render/volume_transport.h"
 
 namespace lvox {
 
+// What phase 1 leaves for phase 2.
+struct PointBasedCache {
+  std::unique_ptr<PointCloud> cloud;
+  LvoxelField field;     // light on the lvoxel grid; empty without lvoxels
+  bool lvoxels = false;  // pcb mode in a scene with media
+  IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
+};
+
 // Phase 1. Records times, counts and memory in the report.
-std::unique_ptr<PointCloud> buildPointCloud(const RenderContext& ctx, Report& report);
+PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
+                                Report& report);
 
 // Phase 2 for one camera sample.
-PixelSampler pcbSampler(const RenderContext& ctx, const PointCloud& cloud, int spp,
-                        SamplerCounters& counters);
+PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
+                        const PointBasedCache& cache, int spp, SamplerCounters& counters);
 
 }  // namespace lvox

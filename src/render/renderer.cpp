@@ -49,13 +49,13 @@ RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& rep
   const MajorantTracker tracker(media, scene.volume.majorantGrid);
   report.memory["media"] = media.memoryBytes();
   SamplerCounters counters;
-  std::unique_ptr<PointCloud> cloud;
+  PointBasedCache pointCache;
   PixelSampler sampler;
   if (scene.render.mode == "mc") {
     sampler = monteCarloSampler(neeCtx, tracker, counters);
   } else if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels") {
-    cloud = buildPointCloud(ctx, report);
-    sampler = pcbSampler(ctx, *cloud, plan.spp, counters);
+    pointCache = buildPointCloud(ctx, volume, report);
+    sampler = pcbSampler(ctx, volume, pointCache, plan.spp, counters);
   } else {
     sampler = directSampler(ctx, volume, counters);
   }

@@ -7,9 +7,6 @@ namespace {
 
 using Channels = rte::Channels<float>;
 
-Channels toChannels(const RGB& c) { return {c.x, c.y, c.z}; }
-RGB toRgb(const Channels& c) { return {c[0], c[1], c[2]}; }
-
 // sigma_t of the heterogeneous media along a ray (homogeneous ones are done analytically).
 struct HeterogeneousExtinction {
   const MediaSet& media;
@@ -19,11 +16,9 @@ struct HeterogeneousExtinction {
     RGB sigmaT(0.0f);
     for (const Medium& m : media.media())
       if (!m.homogeneous() && m.bounds.contains(x)) sigmaT += m.at(x).sigmaT();
-    return {toChannels(sigmaT), Channels(0.0f)};
+    return {{sigmaT.x, sigmaT.y, sigmaT.z}, Channels(0.0f)};
   }
 };
-
-constexpr size_t kMaxMedia = 8;  // media evaluated per point without allocation
 
 }  // namespace
 
@@ -131,30 +126,14 @@ RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
 
 namespace {
 
-// The RTE source along a camera ray: emission plus single scattering, evaluated once per
-// medium evaluation; the light samples are the same at every t (a smooth integrand).
-struct CameraRayProblem {
+// Exact single scattering: shadow rays to every light at each medium evaluation, with the
+// light samples of the camera ray fixed (a smooth integrand).
+struct ExactSingleScatter {
   const VolumeTransport& transport;
-  const Ray& ray;
   const Rng& lightRng;
   rte::SolveCounts& shadowCounts;
-  rte::MediumSample<float> eval(float t) const {
-    const Vec3 x = ray.at(t);
-    MediumCoefficients perMedium[kMaxMedia];
-    RGB sigmaT(0.0f), emission(0.0f);
-    bool scatters = false;
-    const MediaSet& media = transport.media();
-    for (size_t i = 0; i < media.size(); ++i) {
-      if (!media[i].bounds.contains(x)) continue;
-      perMedium[i] = media[i].at(x);
-      sigmaT += perMedium[i].sigmaT();
-      emission += perMedium[i].source;
-      scatters = scatters || !isBlack(perMedium[i].sigmaS);
-    }
-    RGB source = emission;
-    if (scatters)
-      source += transport.singleScatterSource(x, ray.dir, perMedium, lightRng, shadowCounts);
-    return {toChannels(sigmaT), toChannels(source)};
+  RGB operator()(const Vec3& x, const Vec3& viewDir, const MediumCoefficients* perMedium) const {
+    return transport.singleScatterSource(x, viewDir, perMedium, lightRng, shadowCounts);
   }
 };
 
@@ -163,27 +142,15 @@ struct CameraRayProblem {
 RGB VolumeTransport::radiance(const Ray& ray, float tEnd, const RGB& background, Rng& rng,
                               rte::SolveCounts& counts) const {
   if (media_.empty()) return background;
-  thread_local std::vector<std::pair<float, float>> spans;
-  spans.clear();
-  media_.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
-  if (spans.empty()) return background;
   const Rng lightRng = rng;  // the light samples of this camera ray
   rng.next();
   const float jitter = rng.uniform();
-  RGB radiance(0.0f), throughput(1.0f);
   rte::SolveCounts shadowCounts;
-  const CameraRayProblem problem{*this, ray, lightRng, shadowCounts};
-  for (const auto& [a, b] : spans) {
-    const rte::SolveResult<float> r =
-        rte::solve(method_, problem, a, b, Channels(0.0f), segmentSettings(ray, a, b, jitter));
-    counts += r.counts;
-    radiance += throughput * toRgb(r.radiance);
-    throughput *= toRgb(r.transmittance);
-    if (maxComponent(throughput) < 1e-6f) break;
-  }
+  const ExactSingleScatter scatter{*this, lightRng, shadowCounts};
+  const RGB l = radianceWith(ray, tEnd, background, jitter, scatter, counts);
   counts.mediumEvals += shadowCounts.mediumEvals;
   counts.stabilityEvents += shadowCounts.stabilityEvents;
-  return radiance + throughput * background;
+  return l;
 }
 
 }  // namespace lvox

@@ -3,6 +3,8 @@
 // and, along camera rays, the RTE with emission and single scattering solved by the
 // selected method (volume/rte). Only the intervals where a medium may be non-zero are
 // integrated (empty space is skipped by the media's own structure).
+#include <cmath>
+#include <utility>
 #include <vector>
 
 #include "src/render/render_context.h"
@@ -23,9 +25,16 @@ class VolumeTransport {
   // media, the selected solver (T' = -sigma_t T) through heterogeneous ones.
   RGB transmittance(const Ray& ray, rte::SolveCounts& counts) const;
 
-  // Radiance reaching ray.origin along [0, tEnd] when `background` arrives from tEnd.
+  // Radiance reaching ray.origin along [0, tEnd] when `background` arrives from tEnd,
+  // with emission and exact single scattering (shadow rays at every medium evaluation).
   RGB radiance(const Ray& ray, float tEnd, const RGB& background, Rng& rng,
                rte::SolveCounts& counts) const;
+
+  // The same with another in-scatter source: `scatter(x, viewDir, perMedium)` returns
+  // the scattered radiance source sum_m sigma_s,m * (phase-weighted incident light) at x.
+  template <class ScatterSource>
+  RGB radianceWith(const Ray& ray, float tEnd, const RGB& background, float jitter,
+                   const ScatterSource& scatter, rte::SolveCounts& counts) const;
 
   // In-scattered radiance from the lights at x towards -viewDir, per unit sigma_s of each
   // medium: sum_m sigma_s,m * sum_l p_m(cos) L_l V T. `lightRng` fixes the light samples.
@@ -34,6 +43,9 @@ class VolumeTransport {
 
  private:
   rte::SolveSettings<float> segmentSettings(const Ray& ray, float t0, float t1, float jitter) const;
+
+  static rte::Channels<float> toChannels(const RGB& c) { return {c.x, c.y, c.z}; }
+  static RGB toRgb(const rte::Channels<float>& c) { return {c[0], c[1], c[2]}; }
 
   const RenderContext& ctx_;
   const MediaSet& media_;
@@ -44,5 +56,52 @@ class VolumeTransport {
   bool distanceSampling_ = false;
   Vec3 equiangularCentre_;
 };
+
+// At most this many media are evaluated per point (no allocation in the hot path).
+inline constexpr size_t kMaxMedia = 8;
+
+// The RTE along a camera ray: sigma_t of all media, emission plus the in-scatter source.
+template <class ScatterSource>
+struct CameraRayProblem {
+  const MediaSet& media;
+  const Ray& ray;
+  const ScatterSource& scatter;
+  rte::MediumSample<float> eval(float t) const {
+    const Vec3 x = ray.at(t);
+    MediumCoefficients perMedium[kMaxMedia];
+    RGB sigmaT(0.0f), source(0.0f);
+    bool scatters = false;
+    for (size_t i = 0; i < media.size(); ++i) {
+      if (!media[i].bounds.contains(x)) continue;
+      perMedium[i] = media[i].at(x);
+      sigmaT += perMedium[i].sigmaT();
+      source += perMedium[i].source;
+      scatters = scatters || !isBlack(perMedium[i].sigmaS);
+    }
+    if (scatters) source += scatter(x, ray.dir, perMedium);
+    return {{sigmaT.x, sigmaT.y, sigmaT.z}, {source.x, source.y, source.z}};
+  }
+};
+
+template <class ScatterSource>
+RGB VolumeTransport::radianceWith(const Ray& ray, float tEnd, const RGB& background, float jitter,
+                                  const ScatterSource& scatter, rte::SolveCounts& counts) const {
+  if (media_.empty()) return background;
+  thread_local std::vector<std::pair<float, float>> spans;
+  spans.clear();
+  media_.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
+  if (spans.empty()) return background;
+  RGB radiance(0.0f), throughput(1.0f);
+  const CameraRayProblem<ScatterSource> problem{media_, ray, scatter};
+  for (const auto& [a, b] : spans) {
+    const rte::SolveResult<float> r = rte::solve(method_, problem, a, b, rte::Channels<float>(0.0f),
+                                                 segmentSettings(ray, a, b, jitter));
+    counts += r.counts;
+    radiance += throughput * toRgb(r.radiance);
+    throughput *= toRgb(r.transmittance);
+    if (maxComponent(throughput) < 1e-6f) break;
+  }
+  return radiance + throughput * background;
+}
 
 }  // namespace lvox

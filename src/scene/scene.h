@@ -98,10 +98,15 @@ struct VolumeIntegratorSettings {
 
 struct PointCloudSettings {
   float surfelSpacing = 0.0f;             // 0: derived from the total surface area
-  int targetSurfels = 300000;             // used to derive the spacing when it is 0
+  int targetSurfels = 100000;             // used to derive the spacing when it is 0
   std::string surfelSampler = "uniform";  // uniform | camera
   float lvoxelSpacing = 0.0f;             // 0: derived from the medium size
+  int lvoxelSamples = 2;                  // jittered samples per axis averaged per lvoxel
+  int lvoxelGatherSamples = 64;           // sphere rays per lvoxel and scattering pass
+  int bounces = 3;                        // interreflection passes (surfels and lvoxels)
+  int surfelGatherSamples = 8;            // hemisphere rays per surfel side and pass
   int gatherSamples = 128;                // gather rays per pixel (split over its samples)
+  int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
   float clusterSolidAngle = 0.03f;        // sr; 0 = every element exactly
 };
 
@@ -110,9 +115,9 @@ struct RenderSettings {
   int spp = 4;
   int maxBounces = 8;
   uint64_t seed = 1;
-  int areaLightSamples = 16;  // shadow rays per area light (and environment) at a surface point
+  int areaLightSamples = 16;   // shadow rays per area light (and environment) at a surface point
   int mediumLightSamples = 1;  // the same at each medium evaluation (fixed along a camera ray)
-  int threads = 0;            // 0: all cores
+  int threads = 0;             // 0: all cores
 };
 
 struct Scene {

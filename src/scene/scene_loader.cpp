@@ -276,6 +276,11 @@ void parseVolumeIntegrator(JsonObject v, VolumeIntegratorSettings& s) {
 void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   s.surfelSpacing = p.number("surfel_spacing", 0.0f, 1e9f, s.surfelSpacing);
   s.lvoxelSpacing = p.number("lvoxel_spacing", 0.0f, 1e9f, s.lvoxelSpacing);
+  s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
+  s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
+  s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
+  s.bounces = p.integer("bounces", 0, 64, s.bounces);
+  s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
   s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
   s.surfelSampler = p.string("surfel_sampler", s.surfelSampler);
   if (s.surfelSampler != "uniform" && s.surfelSampler != "camera")

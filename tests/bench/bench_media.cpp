@@ -1,21 +1,23 @@
 // Medium lookups per second on the generated smoke plume, per interpolation.
 //   build/tests/bench/lvox_bench --benchmark_filter=MediumLookup
-#include "src/core/rng.h"
-#include "src/scene/scene_loader.h"
-#include "volume/media/media_set.h"
-
 #include <benchmark/benchmark.h>
 
 #include <string>
 #include <vector>
+
+#include "src/core/rng.h"
+#include "src/scene/scene_loader.h"
+#include "volume/media/media_set.h"
 
 namespace lvox {
 namespace {
 
 MediaSet smokeMedia(const std::string& interpolation) {
   const std::string text = std::string(R"({"camera": {"position": [0,0,-5], "look_at": [0,0,0]},
-    "volume_integrator": {"interpolation": ")") + interpolation + R"("},
-    "media": [{"type": "vdb", "file": ")" + LVOX_SOURCE_DIR + R"(/assets/smoke_plume.vdb"}]})";
+    "volume_integrator": {"interpolation": ")") +
+                           interpolation + R"("},
+    "media": [{"type": "vdb", "file": ")" +
+                           LVOX_SOURCE_DIR + R"(/assets/smoke_plume.vdb"}]})";
   std::vector<std::string> warnings;
   return MediaSet::build(parseScene(text, "bench.json"), warnings);
 }

@@ -3,10 +3,11 @@
 # solvers (euler = classic ray marching, rk4, dopri5) at 128x128, measures each against a
 # fine reference (rk4 at a quarter of the scene's step) with `lvox compare`, and writes
 # docs/images/hard_cases.png (a montage) and docs/images/hard_cases.csv.
-#   tests/bench/hard_cases.sh        (after .ci/setup; about 5 minutes on 2 cores)
+#   tests/bench/hard_cases.sh        (after .ci/setup; about a minute on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-docs/images}
+mkdir -p "$out"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 lvox=build/lvox

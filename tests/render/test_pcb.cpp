@@ -24,7 +24,8 @@ TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
     "shapes": [{"type": "quad", "corners": [[-2,0,-2],[2,0,-2],[2,0,2],[-2,0,2]], "material": "white"},
                {"type": "quad", "corners": [[0,0,-2],[0,0,2],[0,3,2],[0,3,-2]], "material": "red"}],
     "lights": [{"type": "directional", "direction": [-0.5, -0.7, -0.2], "irradiance": 3}],
-    "pointcloud": {"surfel_spacing": 0.03, "gather_samples": 1024, "cluster_solid_angle": 0}
+    "pointcloud": {"surfel_spacing": 0.03, "gather_samples": 1024, "cluster_solid_angle": 0,
+                   "bounces": 0, "gather_spacing": 1}
   })";
   auto withMode = [&](const std::string& mode) {
     std::string s = scene;
@@ -44,6 +45,11 @@ TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
   EXPECT_EQ(pcbReport.counts["lvoxels"], 0u);  // no media: no lvoxels
   EXPECT_GT(pcbReport.counts["surfels"], 10000u);
   EXPECT_GT(pcbReport.memory["octree"], 0u);
+  // Full pcb mode in a scene without media is the same renderer: no lvoxels, same image.
+  Report fullReport;
+  const RGB full = render(withMode("pcb"), fullReport).image.at(0, 0);
+  EXPECT_EQ(fullReport.counts["lvoxels"], 0u);
+  EXPECT_EQ(full, pcb);
 }
 
 }  // namespace

@@ -91,6 +91,32 @@ Bounds3 DenseGrid::worldBounds() const {
   return world;
 }
 
+std::vector<Bounds3> DenseGrid::occupiedWorldBoxes() const {
+  std::vector<Bounds3> boxes;
+  const Vec3 o(static_cast<float>(origin.x), static_cast<float>(origin.y),
+               static_cast<float>(origin.z));
+  const float k = static_cast<float>(kBlock);
+  const Bounds3 padded = arrayBounds();
+  for (int z = 0; z < bz; ++z)
+    for (int y = 0; y < by; ++y)
+      for (int x = 0; x < bx; ++x) {
+        if (!blockOccupied[(static_cast<size_t>(z) * by + y) * bx + x]) continue;
+        // The block's voxels and their half-voxel extent, clipped to the padded data box.
+        const int block[3] = {x, y, z};
+        Vec3 lo, hi;
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::max(static_cast<float>(block[a]) * k - 0.5f, padded.lo[a]);
+          hi[a] = std::min(static_cast<float>(block[a] + 1) * k - 0.5f, padded.hi[a]);
+        }
+        Bounds3 world;
+        for (int c = 0; c < 8; ++c)
+          world.extend(indexToWorld.point(
+              Vec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z) + o));
+        boxes.push_back(world);
+      }
+  return boxes;
+}
+
 void DenseGrid::intervals(const Ray& ray, float tmin, float tmax,
                           std::vector<std::pair<float, float>>& out) const {
   forEachBlock(ray, tmin, tmax, [&](float t0, float t1, size_t block) {

@@ -47,6 +47,8 @@ struct DenseGrid {
   Bounds3 arrayBounds() const;
   // World-space bounds of the data (the 8 transformed corners).
   Bounds3 worldBounds() const;
+  // World-space boxes of the occupied blocks (where the grid can be non-zero).
+  std::vector<Bounds3> occupiedWorldBoxes() const;
   // Sorted, merged t-intervals of `ray` (world space) over occupied blocks in [tmin, tmax].
   void intervals(const Ray& ray, float tmin, float tmax,
                  std::vector<std::pair<float, float>>& out) const;

@@ -1,0 +1,76 @@
+#include "src/render/indirect_grid.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lvox {
+namespace {
+
+constexpr float kMinNormalCosine = 0.9f;   // about 25 degrees
+constexpr float kMaxPlaneDistance = 2.0f;  // in pixel footprints at the grid point
+constexpr float kMaxReach = 2.0f;          // in grid spacings, along the surface
+
+}  // namespace
+
+IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
+                           const GatherOptions& options, int spacing, uint64_t seed)
+    : spacing_(std::max(1, spacing)) {
+  const Camera& camera = ctx.scene.camera;
+  // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
+  // every pixel lies between grid points.
+  nx_ = (camera.width - 1) / spacing_ + 2;
+  ny_ = (camera.height - 1) / spacing_ + 2;
+  points_.resize(static_cast<size_t>(nx_ * ny_));
+  tbb::parallel_for(long(0), ny_, [&](long j) {
+    TraversalScratch scratch;
+    for (long i = 0; i < nx_; ++i) {
+      Point& pt = points_[static_cast<size_t>(j * nx_ + i)];
+      const float px = static_cast<float>(i * spacing_) + 0.5f;
+      const float py = static_cast<float>(j * spacing_) + 0.5f;
+      const Ray ray = camera.generateRay(px, py);
+      SurfaceHit hit;
+      if (!ctx.tracer.intersect(ray, hit)) continue;
+      const Ray next = camera.generateRay(px + 1.0f, py);
+      pt.position = hit.point;
+      pt.normal = hit.normal;
+      // One pixel's width at the hit distance (the angle between neighbouring pixel rays).
+      pt.footprint = hit.t * length(next.dir - ray.dir) / std::max(dot(next.dir, ray.dir), 1e-3f);
+      // Neighbouring grid points on an oblique surface are further apart in the world.
+      pt.reach = kMaxReach * static_cast<float>(spacing_) * pt.footprint /
+                 std::max(std::abs(dot(ray.dir, hit.normal)), 0.25f);
+      Rng rng(seed ^ 0x9a7e5u, static_cast<uint64_t>(j * nx_ + i));
+      pt.irradiance = gatherIrradiance(cloud, hit.point, hit.normal, options, rng, scratch);
+      pt.valid = isFinite(pt.irradiance);
+    }
+  });
+}
+
+bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradiance) const {
+  const float u = (px - 0.5f) / static_cast<float>(spacing_);
+  const float v = (py - 0.5f) / static_cast<float>(spacing_);
+  const long i0 = std::clamp(static_cast<long>(std::floor(u)), 0L, nx_ - 2);
+  const long j0 = std::clamp(static_cast<long>(std::floor(v)), 0L, ny_ - 2);
+  const float fu = std::clamp(u - static_cast<float>(i0), 0.0f, 1.0f);
+  const float fv = std::clamp(v - static_cast<float>(j0), 0.0f, 1.0f);
+  RGB sum(0.0f);
+  float weightSum = 0.0f;
+  for (int c = 0; c < 4; ++c) {
+    const long di = c & 1, dj = c >> 1;
+    const Point& pt = at(i0 + di, j0 + dj);
+    if (!pt.valid || dot(pt.normal, hit.normal) < kMinNormalCosine) continue;
+    const Vec3 d = pt.position - hit.point;
+    if (std::abs(dot(d, hit.normal)) > kMaxPlaneDistance * pt.footprint || length(d) > pt.reach)
+      continue;
+    const float w = (di ? fu : 1.0f - fu) * (dj ? fv : 1.0f - fv);
+    sum += pt.irradiance * w;
+    weightSum += w;
+  }
+  // A sample right next to a rejected corner would lean on one far corner alone.
+  if (weightSum < 0.05f) return false;
+  irradiance = sum / weightSum;
+  return true;
+}
+
+}  // namespace lvox

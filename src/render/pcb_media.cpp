@@ -1,0 +1,154 @@
+#include "src/render/pcb_media.h"
+
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "pointcloud/lvoxel_sampler.h"
+
+namespace lvox {
+namespace {
+
+constexpr float kInv4Pi = 0.25f * kInvPi;
+
+// A medium as the lvoxel sampler sees it: the shared grid's bounds, the medium's own
+// active boxes (occupied VDB blocks, or its box) and its coefficients.
+struct MediumForLvoxels {
+  const Medium& medium;
+  Bounds3 gridBounds;
+  std::vector<Bounds3> boxes;
+
+  Bounds3 bounds() const { return gridBounds; }
+  const std::vector<Bounds3>& activeBoxes() const { return boxes; }
+  void coefficients(const Vec3& p, RGB& sigmaA, RGB& sigmaS) const {
+    if (!medium.bounds.contains(p)) {
+      sigmaA = sigmaS = RGB(0.0f);
+      return;
+    }
+    const MediumCoefficients c = medium.at(p);
+    sigmaA = c.sigmaA;
+    sigmaS = c.sigmaS;
+  }
+};
+
+std::vector<Bounds3> activeBoxes(const Medium& m) {
+  if (m.density) return m.density->occupiedWorldBoxes();
+  return {m.bounds};
+}
+
+// Visibility x transmittance from x towards a light sample.
+RGB lightTransmittance(const RenderContext& ctx, const VolumeTransport& volume, const Vec3& x,
+                       const Vec3& wi, float distance, rte::SolveCounts& counts) {
+  Ray shadow;
+  shadow.origin = x;
+  shadow.dir = wi;
+  shadow.tmin = 0.0f;
+  shadow.tmax = std::isinf(distance) ? kInf : distance * (1.0f - 1e-4f);
+  if (ctx.tracer.occluded(shadow)) return RGB(0.0f);
+  return volume.transmittance(shadow, counts);
+}
+
+}  // namespace
+
+float lvoxelSpacing(const Scene& scene, const MediaSet& media) {
+  if (scene.pointcloud.lvoxelSpacing > 0.0f) return scene.pointcloud.lvoxelSpacing;
+  const Vec3 d = media.bounds().diagonal();
+  return std::max({d.x, d.y, d.z}) / 48.0f;
+}
+
+LvoxelSet sampleSceneLvoxels(const Scene& scene, const MediaSet& media, LvoxelField& field) {
+  LvoxelSet all;
+  LvoxelSettings settings;
+  settings.spacing = field.spacing();
+  settings.samplesPerAxis = scene.pointcloud.lvoxelSamples;
+  settings.seed = scene.render.seed;
+  for (const Medium& m : media.media()) {
+    const MediumForLvoxels adapter{m, media.bounds(), activeBoxes(m)};
+    all.append(sampleLvoxels(adapter, settings));
+  }
+  for (const Vec3& p : all.position) field.occupy(p);
+  return all;
+}
+
+void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
+                            LvoxelField& field, rte::SolveCounts& counts) {
+  const LightSet& lights = ctx.lights;
+  const size_t deltaCount = lights.lights().size();
+  tbb::combinable<rte::SolveCounts> perThread;
+  tbb::parallel_for(size_t(0), field.occupiedCount(), [&](size_t slot) {
+    rte::SolveCounts& local = perThread.local();
+    const Vec3 x = field.centre(static_cast<uint32_t>(slot));
+    RGB* values = field.values(static_cast<uint32_t>(slot));
+    for (size_t k = 0; k < deltaCount; ++k) {
+      const LightSample s = lights.sampleDelta(lights.lights()[k], x);
+      // A spot light's cone does not decide the shadowing: the centre may lie outside the
+      // cone while part of the cell is inside, so the transmittance is kept regardless.
+      const Light& light = lights.lights()[k];
+      const Vec3 wi = light.type == LightType::Directional ? -light.direction : s.wi;
+      const float distance =
+          light.type == LightType::Directional ? kInf : length(light.position - x);
+      values[k] =
+          distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance, local) : RGB(1.0f);
+    }
+    Rng rng(ctx.scene.render.seed ^ 0x1f0e1u, slot);
+    RGB isotropic(0.0f);
+    lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
+      isotropic += s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);
+    });
+    values[deltaCount] = isotropic * kInv4Pi;
+  });
+  perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
+}
+
+RGB phaseAveragedDirect(const LightSet& lights, const LvoxelField& field, uint32_t slot) {
+  const RGB* values = field.values(slot);
+  const size_t deltaCount = lights.lights().size();
+  RGB sum = values[deltaCount];
+  for (size_t k = 0; k < deltaCount; ++k) {
+    const LightSample s = lights.sampleDelta(lights.lights()[k], field.centre(slot));
+    sum += s.radiance * values[k] * kInv4Pi;
+  }
+  return sum;
+}
+
+void addMultipleScattering(const LvoxelSet& lvoxels, LvoxelField& field) {
+  const size_t iso = field.channels() - 1;
+  std::vector<RGB> sum(field.occupiedCount(), RGB(0.0f));
+  std::vector<int> count(field.occupiedCount(), 0);
+  for (size_t i = 0; i < lvoxels.size(); ++i) {
+    const long slot = field.slotOf(lvoxels.position[i]);
+    if (slot < 0) continue;
+    sum[static_cast<size_t>(slot)] += lvoxels.multiScatter[i];
+    ++count[static_cast<size_t>(slot)];
+  }
+  for (size_t s = 0; s < sum.size(); ++s)
+    if (count[s] > 0)
+      field.values(static_cast<uint32_t>(s))[iso] += sum[s] / static_cast<float>(count[s]);
+}
+
+RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
+                                  const MediumCoefficients* perMedium) const {
+  thread_local std::vector<RGB> values;
+  values.resize(field.channels());
+  if (!field.interpolate(x, values.data())) return RGB(0.0f);
+  const size_t deltaCount = lights.lights().size();
+  // Light samples of the delta lights at x: exact direction, falloff and spot profile.
+  thread_local std::vector<LightSample> samples;
+  samples.resize(deltaCount);
+  for (size_t k = 0; k < deltaCount; ++k) samples[k] = lights.sampleDelta(lights.lights()[k], x);
+  RGB source(0.0f);
+  for (size_t m = 0; m < media.size(); ++m) {
+    if (isBlack(perMedium[m].sigmaS)) continue;
+    RGB incident = values[deltaCount];
+    for (size_t k = 0; k < deltaCount; ++k) {
+      if (isBlack(samples[k].radiance)) continue;
+      incident +=
+          samples[k].radiance * values[k] * media[m].phase.eval(dot(samples[k].wi, viewDir));
+    }
+    source += perMedium[m].sigmaS * incident;
+  }
+  return source;
+}
+
+}  // namespace lvox
