@@ -102,16 +102,16 @@ struct PointCloudSettings {
   std::string surfelSampler = "uniform";  // uniform | camera
   float lvoxelSpacing = 0.0f;             // 0: derived from the medium size
   int lvoxelSamples = 2;                  // jittered samples per axis averaged per lvoxel
-  int lvoxelGatherSamples = 64;           // sphere rays per lvoxel and scattering pass
-  int bounces = 3;                        // interreflection passes (surfels and lvoxels)
-  int surfelGatherSamples = 8;            // hemisphere rays per surfel side and pass
+  int lvoxelGatherSamples = 16;           // sphere rays per lvoxel and scattering pass
+  int bounces = 8;                        // interreflection passes (surfels and lvoxels)
+  int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
   int gatherSamples = 128;                // gather rays per pixel (split over its samples)
   int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
-  float clusterSolidAngle = 0.03f;        // sr; 0 = every element exactly
+  float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
 };
 
 struct RenderSettings {
-  std::string mode = "direct";
+  std::string mode = "pcb";
   int spp = 4;
   int maxBounces = 8;
   uint64_t seed = 1;

@@ -39,7 +39,7 @@ RunResult runLvox(const std::string& args, const fs::path& dir) {
 
 const char* kScene = R"({
   "camera": {"position": [0, 2, 4], "look_at": [0, 0, 0], "vfov_deg": 40, "width": 48, "height": 32},
-  "render": {"spp": 2},
+  "render": {"mode": "direct", "spp": 2},
   "materials": {"white": {"albedo": 0.7}},
   "shapes": [{"type": "quad", "corners": [[-2,0,-2],[2,0,-2],[2,0,2],[-2,0,2]], "material": "white"},
              {"type": "box", "min": [-0.3,0,-0.3], "max": [0.3,0.6,0.3], "material": "white"}],
@@ -239,10 +239,32 @@ void expectSceneRenders(const std::string& scenePath, const std::string& mode) {
   EXPECT_GT(sum / static_cast<double>(image.pixels.size()), 0.01) << "image is black";
 }
 
-TEST(Scenes, AtriumRendersInDirectAndMcModes) {
+TEST(Scenes, AtriumRendersInDirectMcAndPcbModes) {
   const std::string atrium = std::string(LVOX_SOURCE_DIR) + "/scenes/atrium.json";
   expectSceneRenders(atrium, "direct");
   expectSceneRenders(atrium, "mc");
+  expectSceneRenders(atrium, "pcb");
+}
+
+// The README's first command: the atrium with the smoke plume in pcb mode (smaller here).
+TEST(Scenes, AtriumWithSmokeRendersInPcbMode) {
+  const auto dir = test::tempDir();
+  const std::string scene = std::string(LVOX_SOURCE_DIR) + "/scenes/atrium_smoke.json";
+  const RunResult r =
+      runLvox("render " + scene + " --width 96 --height 96 --spp 1 -o " +
+                  (dir / "out.exr").string() + " --report " + (dir / "r.json").string(),
+              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::ifstream in(dir / "r.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["settings"]["mode"], "pcb");
+  EXPECT_GT(report["counts"]["lvoxels"].get<uint64_t>(), 1000u);
+  EXPECT_GT(report["counts"]["surfels"].get<uint64_t>(), 10000u);
+  for (const char* phase : {"surfel_sampling", "lvoxel_sampling", "octree_build", "direct_cache",
+                            "interreflection", "gather_grid", "render"})
+    EXPECT_TRUE(report["times"].contains(phase)) << phase;
+  for (const char* mem : {"point_cloud", "octree", "lvoxel_field", "peak_rss"})
+    EXPECT_GT(report["memory"][mem].get<uint64_t>(), 0u) << mem;
 }
 
 TEST(Scenes, RealSponzaRendersWhenPresent) {

@@ -41,6 +41,7 @@ std::string fromSide(std::string text) {
 
 RGB renderPixel(const std::string& text) {
   Scene scene = parseScene(text, "/tmp/direct-test.json");
+  scene.render.mode = "direct";
   Report report;
   const Image image = renderScene(scene, report);
   return image.at(0, 0);
@@ -153,6 +154,7 @@ TEST(DirectLighting, DeterministicAcrossThreadCounts) {
     std::string t = text;
     t.replace(t.find("THREADS"), 7, threads);
     Scene scene = parseScene(t, "/tmp/det.json");
+    scene.render.mode = "direct";
     Report report;
     return renderScene(scene, report);
   };

@@ -18,6 +18,7 @@ struct Pixel {
 Pixel renderPixel(const std::string& text, const std::string& solver, float step,
                   const std::string& sampling = "none", float tol = 1e-6f) {
   Scene scene = parseScene(text, "/tmp/volume-test.json");
+  scene.render.mode = "direct";
   scene.volume.solver = solver;
   scene.volume.step = step;
   scene.volume.tolerance = tol;
@@ -110,6 +111,7 @@ TEST(VolumeDirect, EmissionFurnaceThroughTheSmokeVdb) {
     // pixel 0.83 % off, so 1.5 %; the IVP methods are exact to float rounding.
     const float tolerance = std::string(solver) == "simpson" ? 1.5e-2f : 2e-4f;
     Scene scene = parseScene(s.str(), "/tmp/furnace.json");
+    scene.render.mode = "direct";
     scene.volume.solver = solver;
     scene.volume.step = 0.2f;
     scene.volume.tolerance = 1e-6f;
@@ -131,6 +133,7 @@ TEST(VolumeDirect, StiffMediumStaysFiniteAndCountsStabilityEvents) {
     "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [1, 1, 1], "sigma_a": 100, "sigma_s": 900}]})";
   for (const char* solver : {"euler", "rk2", "rk4", "ab4", "trapezoid", "simpson", "rectangle"}) {
     Scene sc = parseScene(scene, "/tmp/stiff.json");
+    sc.render.mode = "direct";
     sc.volume.solver = solver;
     sc.volume.step = 0.1f;
     Report report;
