@@ -7,7 +7,8 @@ namespace lvox {
 RGB gatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
               TraversalScratch& scratch) {
   GatherRayVisitor visitor{cloud, options.minTransmittance};
-  traverse(cloud, ray, visitor, TraversalOptions{options.maxSolidAngle}, scratch);
+  traverse(cloud, ray, visitor,
+           TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
   if (!visitor.opaqueHit && maxComponent(visitor.transmittance) >= options.minTransmittance)
     visitor.radiance += visitor.transmittance * options.background;
   return visitor.radiance;

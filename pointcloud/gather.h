@@ -16,10 +16,11 @@
 namespace lvox {
 
 struct GatherOptions {
-  int samples = 128;           // rays per gather, stratified
-  float maxSolidAngle = 0.0f;  // cluster criterion (TraversalOptions); 0 = exact
-  float rayOffset = 1e-4f;     // ray tmin, scene units: skips the receiver's own disks
-  RGB background{0, 0, 0};     // radiance of rays that leave the cloud
+  int samples = 128;                 // rays per gather, stratified
+  float maxSolidAngle = 0.0f;        // cluster criterion (TraversalOptions); 0 = exact
+  float maxLvoxelSolidAngle = 0.0f;  // the same for lvoxel-only nodes
+  float rayOffset = 1e-4f;           // ray tmin, scene units: skips the receiver's own disks
+  RGB background{0, 0, 0};           // radiance of rays that leave the cloud
   float minTransmittance = 1e-4f;
 };
 

@@ -30,6 +30,10 @@ struct TraversalOptions {
   // d > 2R) subtends pi R^2 / d^2 < maxSolidAngle steradians is used as its cluster
   // proxies instead of being opened. 0 disables clusters (exact traversal).
   float maxSolidAngle = 0.0f;
+  // The same for nodes that hold lvoxels only (the larger of the two applies). Lvoxel
+  // proxies conserve the extinction cross-section exactly, while surfel proxies average
+  // the two sides of closed geometry, so media can use clusters where surfaces do not.
+  float maxLvoxelSolidAngle = 0.0f;
 };
 
 struct TraversalStats {
@@ -63,10 +67,13 @@ inline void pushEntry(std::vector<TraversalEntry>& heap, const TraversalEntry& e
 }
 
 inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOptions& o) {
-  if (o.maxSolidAngle <= 0.0f || node.elementCount() <= 1) return false;
+  const float maxAngle = node.surfelEnd > node.surfelBegin
+                             ? o.maxSolidAngle
+                             : std::max(o.maxSolidAngle, o.maxLvoxelSolidAngle);
+  if (maxAngle <= 0.0f || node.elementCount() <= 1) return false;
   const float r2 = 0.25f * node.bounds.diagonal().length2();
   const float d2 = (node.bounds.center() - ray.origin).length2();
-  return d2 > 4.0f * r2 && kPi * r2 < o.maxSolidAngle * d2;
+  return d2 > 4.0f * r2 && kPi * r2 < maxAngle * d2;
 }
 
 inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ray& ray,

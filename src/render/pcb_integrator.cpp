@@ -32,6 +32,7 @@ GatherOptions gatherOptions(const Scene& scene, float spacing, int samples) {
   GatherOptions o;
   o.samples = samples;
   o.maxSolidAngle = scene.pointcloud.clusterSolidAngle;
+  o.maxLvoxelSolidAngle = scene.pointcloud.lvoxelClusterSolidAngle;
   // Gather rays start half a spacing out, past the receiver's own (possibly tilted) disks.
   o.rayOffset = 0.5f * spacing;
   // Light from the environment is in the direct caches already.

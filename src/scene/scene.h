@@ -107,6 +107,7 @@ struct PointCloudSettings {
   int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
   int gatherSamples = 128;                // gather rays per pixel (split over its samples)
   int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
+  float lvoxelClusterSolidAngle = 0.03f;  // sr; the same for nodes holding lvoxels only
   float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
 };
 

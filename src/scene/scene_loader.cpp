@@ -286,6 +286,8 @@ void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   if (s.surfelSampler != "uniform" && s.surfelSampler != "camera")
     p.fail("surfel_sampler", "unknown sampler '" + s.surfelSampler + "' (uniform, camera)");
   s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
+  s.lvoxelClusterSolidAngle =
+      p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi, s.lvoxelClusterSolidAngle);
   s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
   p.finish();
 }
