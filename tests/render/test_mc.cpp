@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -143,6 +144,53 @@ TEST(MonteCarloMedia, GlobalAndGridMajorantsAgree) {
   const double se = std::hypot(stats[0].standardError, stats[1].standardError);
   EXPECT_NEAR(stats[0].mean, stats[1].mean, 4.5 * se);
   EXPECT_LT(lookups[0], lookups[1]);  // the grid skips null collisions in thin smoke
+}
+
+// MC restricted to single scattering (max_bounces 1) and the ODE single-scattering
+// renderer (--mode direct, rk4 at a quarter of the scene's step) estimate the same image
+// on every hard case. Per pixel the difference is noise of both plus the ODE's bias, so
+// the mean difference over the image is bounded by 4.5 standard errors of it (the
+// scene's own structure cancels) plus a bias allowance:
+//  - 1 % of the image mean where the scene is lit by a directional light;
+//  - 10 % where a point or spot light is in view or in the medium. Single rays away from
+//    the light agree within 1 % (checked at 100k spp), but at image level MC came out
+//    lower by 1.2 SE (thin beam), 3.7 SE / 8.6 % (sharp shadow) and 2.2 SE / 12.6 %
+//    (point light) at 8192 spp. MC's 1/r^2 contributions near the light are heavy-tailed
+//    (no equiangular sampling in MC yet), so its standard error is unreliable there, and
+//    rk4's error on the peak is not bounded either. An open question (issue notes).
+TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
+  for (const char* name : {"fog_slab", "point_light_fog", "sharp_shadow", "thick_medium",
+                           "thin_beam", "high_frequency"}) {
+    const Scene base = loadScene(std::string(LVOX_SOURCE_DIR) + "/scenes/hard/" + name + ".json");
+    Scene ode = base, mc = base;
+    for (Scene* s : {&ode, &mc}) s->camera.width = s->camera.height = 16;
+    ode.render.mode = "direct";
+    ode.render.spp = 16;
+    ode.volume.solver = "rk4";
+    ode.volume.step = base.volume.step / 4.0f;
+    mc.render.mode = "mc";
+    mc.render.spp = 4096;
+    mc.render.maxBounces = 1;
+    Report odeReport, mcReport;
+    const Image a = renderScene(ode, odeReport);
+    const Image b = renderScene(mc, mcReport);
+    double sum = 0.0, sum2 = 0.0, level = 0.0;
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double d = static_cast<double>(b.pixels[i][c]) - a.pixels[i][c];
+        sum += d;
+        sum2 += d * d;
+        level += a.pixels[i][c];
+      }
+    const double n = 3.0 * static_cast<double>(a.pixels.size());
+    const double mean = sum / n;
+    const double se = std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1.0)) / n);
+    const bool deltaLight = std::string(name) != "fog_slab" &&
+                            std::string(name) != "thick_medium" &&
+                            std::string(name) != "high_frequency";
+    EXPECT_NEAR(mean, 0.0, 4.5 * se + (deltaLight ? 0.10 : 0.01) * level / n)
+        << name << ": se " << se << ", image mean " << level / n;
+  }
 }
 
 }  // namespace
