@@ -40,10 +40,12 @@ RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const S
 
 // Next-event estimation at a medium scattering point (phase function instead of BRDF;
 // the phase's own sampling is not MIS-weighted, so continuation rays add no emission).
+// Point and spot lights are left out: their in-scattering along the whole segment is
+// estimated by equiangularInScatter, which has finite variance where this would not.
 RGB mediumNee(const RenderContext& ctx, const MajorantTracker& tracker, const Vec3& x,
               const Vec3& dir, const PhaseFunction& phase, Rng& rng, PathCounters& counters) {
   RGB sum(0.0f);
-  ctx.lights.forEachSample(x, nullptr, rng, [&](const LightSample& s) {
+  auto add = [&](const LightSample& s) {
     ++counters.rays;
     Ray shadow;
     shadow.origin = x;
@@ -53,7 +55,54 @@ RGB mediumNee(const RenderContext& ctx, const MajorantTracker& tracker, const Ve
     // Light travels along -wi and continues along -dir towards the previous vertex.
     sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) *
            phase.eval(dot(s.wi, dir));
-  });
+  };
+  for (const Light& light : ctx.lights.lights())
+    if (light.type == LightType::Directional) add(ctx.lights.sampleDelta(light, x));
+  ctx.lights.forEachAreaSample(x, nullptr, rng, add);
+  return sum;
+}
+
+// Light of point and spot lights scattered once on the segment [0, tEnd] of a path, one
+// equiangular sample per light (Kulla & Fajardo 2012): pdf proportional to 1/r^2 of the
+// light, so the estimate is bounded even for rays through the light. With delta tracking,
+// NEE at a collision would carry 1/r^2, whose second moment diverges near the light.
+// Transmittance to the sample and to the light by ratio tracking; unbiased.
+RGB equiangularInScatter(const RenderContext& ctx, const MajorantTracker& tracker, const Ray& ray,
+                         float tEnd, Rng& rng, PathCounters& counters) {
+  const MediaSet& media = tracker.media();
+  thread_local std::vector<std::pair<float, float>> spans;
+  spans.clear();
+  media.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
+  if (spans.empty()) return RGB(0.0f);
+  const float a = spans.front().first, b = spans.back().second;
+  RGB sum(0.0f);
+  for (const Light& light : ctx.lights.lights()) {
+    if (light.type == LightType::Directional) continue;
+    const Vec3 toLight = light.position - ray.origin;
+    const float delta = dot(toLight, ray.dir);
+    const float h = std::max(1e-4f, length(toLight - ray.dir * delta));
+    const float thetaA = std::atan((a - delta) / h), thetaB = std::atan((b - delta) / h);
+    if (!(thetaB > thetaA)) continue;
+    const float t = delta + h * std::tan(thetaA + rng.uniform() * (thetaB - thetaA));
+    const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+    const Vec3 x = ray.at(t);
+    const LightSample s = ctx.lights.sampleDelta(light, x);
+    if (isBlack(s.radiance) || !(pdf > 0.0f)) continue;
+    RGB scatter(0.0f);
+    for (const Medium& m : media.media()) {
+      if (!m.bounds.contains(x)) continue;
+      ++counters.lookups;
+      scatter += m.at(x).sigmaS * m.phase.eval(dot(s.wi, ray.dir));
+    }
+    if (isBlack(scatter)) continue;
+    Ray shadow{x, s.wi, 0.0f, s.distance * (1.0f - 1e-4f)};
+    ++counters.rays;
+    if (ctx.tracer.occluded(shadow)) continue;
+    const Ray toSample{ray.origin, ray.dir, 0.0f, t};
+    const RGB tr = shadowTransmittance(tracker, toSample, rng, counters) *
+                   shadowTransmittance(tracker, shadow, rng, counters);
+    sum += scatter * s.radiance * tr / pdf;
+  }
   return sum;
 }
 
@@ -138,6 +187,9 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
     ++counters.rays;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (media) {
+      if (event <= maxEvents)
+        radiance += throughput * equiangularInScatter(ctx, tracker, ray, hitSurface ? hit.t : kInf,
+                                                      rng, counters);
       const Collision c =
           deltaTrack(tracker, ray, hitSurface ? hit.t : kInf, rng, throughput, radiance, counters);
       if (c.absorbed) break;

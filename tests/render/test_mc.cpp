@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -146,21 +147,30 @@ TEST(MonteCarloMedia, GlobalAndGridMajorantsAgree) {
   EXPECT_LT(lookups[0], lookups[1]);  // the grid skips null collisions in thin smoke
 }
 
+// Image position (pixels) of a point in front of the camera (the inverse of generateRay).
+Vec3 projectToImage(const Camera& cam, const Vec3& p) {
+  const Vec3 forward = normalize(cam.lookAt - cam.position);
+  const Vec3 right = normalize(cross(forward, cam.up));
+  const Vec3 trueUp = cross(right, forward);
+  const float tanHalf = std::tan(0.5f * cam.vfovDeg * kPi / 180.0f);
+  const float aspect = static_cast<float>(cam.width) / static_cast<float>(cam.height);
+  const Vec3 d = p - cam.position;
+  const float sx = dot(d, right) / dot(d, forward), sy = dot(d, trueUp) / dot(d, forward);
+  return {(sx / (tanHalf * aspect) + 1.0f) * 0.5f * static_cast<float>(cam.width),
+          (1.0f - sy / tanHalf) * 0.5f * static_cast<float>(cam.height), dot(d, forward)};
+}
+
 // MC restricted to single scattering (max_bounces 1) and the ODE single-scattering
-// renderer (--mode direct, rk4 at a quarter of the scene's step) estimate the same image
-// on every hard case. Per pixel the difference is noise of both plus the ODE's bias, so
-// the mean difference over the image is bounded by 4.5 standard errors of it (the
-// scene's own structure cancels) plus a bias allowance:
-//  - 1 % of the image mean where the scene is lit by a directional light;
-//  - 10 % where a point or spot light lies in the medium. Single rays away from the light
-//    agree within 1 % (checked at 100k spp), but at image level MC came out lower by
-//    1.2 SE (thin beam), 3.7 SE / 8.6 % (sharp shadow) and 2.2 SE / 12.6 % (point light)
-//    at 8192 spp, and the difference sits in the pixels around the light (heat map). There
-//    MC's estimator has infinite variance: NEE from a distance-sampled point at distance r
-//    from the light contributes 1/r^2, its second moment along a ray passing at h goes
-//    as 1/h^3, and a pixel's average over h diverges. The sample mean is then skewed low
-//    and its standard error unreliable. Equiangular sampling in MC is the cure; it is not
-//    implemented yet.
+// renderer (--mode direct, rk4 at a quarter of the scene's step, equiangular steps around
+// point and spot lights) estimate the same image on every hard case. Per pixel the
+// difference is the noise of both plus the ODE's bias, so the mean difference over the
+// image must be within 4.5 standard errors of it (the scene's own structure cancels) plus
+// 1 % of the image mean for the ODE's discretisation.
+// The pixels around a point or spot light seen by the camera are left out: a ray passing
+// at distance h from the light collects ~1/h, so over the pixel the second moment of any
+// estimator diverges (logarithmically) and neither mean is reliable there. Measured with
+// 16 ODE and 4096 MC samples, the light's pixel read 6.8 vs 2.5 while single rays agree
+// within 1 %; with those pixels in, MC came out 10-12 % lower than the ODE.
 TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
   for (const char* name : {"fog_slab", "point_light_fog", "sharp_shadow", "thick_medium",
                            "thin_beam", "high_frequency"}) {
@@ -171,28 +181,40 @@ TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
     ode.render.spp = 16;
     ode.volume.solver = "rk4";
     ode.volume.step = base.volume.step / 4.0f;
+    ode.volume.sampling = "equiangular";
     mc.render.mode = "mc";
     mc.render.spp = 4096;
     mc.render.maxBounces = 1;
+    std::vector<Vec3> lightPixels;
+    for (const Light& l : base.lights)
+      if (l.type == LightType::Point || l.type == LightType::Spot) {
+        const Vec3 q = projectToImage(ode.camera, l.position);
+        if (q.z > 0.0f) lightPixels.push_back(q);
+      }
     Report odeReport, mcReport;
     const Image a = renderScene(ode, odeReport);
     const Image b = renderScene(mc, mcReport);
-    double sum = 0.0, sum2 = 0.0, level = 0.0;
-    for (size_t i = 0; i < a.pixels.size(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const double d = static_cast<double>(b.pixels[i][c]) - a.pixels[i][c];
-        sum += d;
-        sum2 += d * d;
-        level += a.pixels[i][c];
+    double sum = 0.0, sum2 = 0.0, level = 0.0, n = 0.0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        bool nearLight = false;
+        for (const Vec3& q : lightPixels)
+          nearLight = nearLight || (std::abs(static_cast<float>(x) + 0.5f - q.x) < 2.0f &&
+                                    std::abs(static_cast<float>(y) + 0.5f - q.y) < 2.0f);
+        if (nearLight) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double d = static_cast<double>(b.at(x, y)[c]) - a.at(x, y)[c];
+          sum += d;
+          sum2 += d * d;
+          level += a.at(x, y)[c];
+          n += 1.0;
+        }
       }
-    const double n = 3.0 * static_cast<double>(a.pixels.size());
     const double mean = sum / n;
     const double se = std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1.0)) / n);
-    const bool deltaLight = std::string(name) != "fog_slab" &&
-                            std::string(name) != "thick_medium" &&
-                            std::string(name) != "high_frequency";
-    EXPECT_NEAR(mean, 0.0, 4.5 * se + (deltaLight ? 0.10 : 0.01) * level / n)
+    EXPECT_NEAR(mean, 0.0, 4.5 * se + 0.01 * level / n)
         << name << ": se " << se << ", image mean " << level / n;
+    EXPECT_GT(n, 0.8 * 3.0 * 256.0) << name;  // at most a few pixels left out
   }
 }
 
