@@ -68,6 +68,35 @@ void applyOverrides(const RenderFlags& f, Scene& scene) {
   if (f.tolerance) scene.volume.tolerance = *f.tolerance;
 }
 
+// The profiling lines of the point-based modes: phase times, element counts, memory.
+void printPointCloudSummary(const Report& report) {
+  auto count = [&](const char* key) {
+    auto it = report.counts.find(key);
+    return it == report.counts.end() ? uint64_t{0} : it->second;
+  };
+  auto megabytes = [&](const char* key) {
+    auto it = report.memory.find(key);
+    return it == report.memory.end() ? 0.0 : static_cast<double>(it->second) * 1e-6;
+  };
+  std::string phases;
+  for (const char* phase : {"surfel_sampling", "lvoxel_sampling", "octree_build", "direct_cache",
+                            "interreflection", "gather_grid", "render"}) {
+    auto it = report.times.find(phase);
+    if (it == report.times.end()) continue;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.2f s", phases.empty() ? "" : ", ", phase, it->second);
+    phases += buf;
+  }
+  std::fprintf(stderr, "lvox: phases: %s\n", phases.c_str());
+  std::fprintf(stderr,
+               "lvox: cloud: %llu surfels, %llu lvoxels, %llu nodes; %.1f MB elements, %.1f MB "
+               "octree, %.1f MB lvoxel field; peak RSS %.0f MB\n",
+               static_cast<unsigned long long>(count("surfels")),
+               static_cast<unsigned long long>(count("lvoxels")),
+               static_cast<unsigned long long>(count("octree_nodes")), megabytes("point_cloud"),
+               megabytes("octree"), megabytes("lvoxel_field"), megabytes("peak_rss"));
+}
+
 void printSummary(const Scene& scene, const Report& report, const std::string& output) {
   const double seconds = report.times.at("total");
   uint64_t rays = 0;
@@ -80,6 +109,8 @@ void printSummary(const Scene& scene, const Report& report, const std::string& o
                scene.camera.height, report.settings.at("spp").c_str(), scene.render.mode.c_str(),
                seconds, seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0,
                output.c_str());
+  if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels")
+    printPointCloudSummary(report);
   auto invalid = report.counts.find("invalid_samples");
   if (invalid != report.counts.end() && invalid->second > 0)
     std::fprintf(stderr, "lvox: warning: %llu invalid (NaN/Inf/negative) samples were zeroed\n",

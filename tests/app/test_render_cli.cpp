@@ -255,6 +255,9 @@ TEST(Scenes, AtriumWithSmokeRendersInPcbMode) {
                   (dir / "out.exr").string() + " --report " + (dir / "r.json").string(),
               dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
+  // The readable profile on stderr.
+  EXPECT_NE(r.err.find("lvox: phases: surfel_sampling"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" lvoxels, "), std::string::npos) << r.err;
   std::ifstream in(dir / "r.json");
   const nlohmann::json report = nlohmann::json::parse(in);
   EXPECT_EQ(report["settings"]["mode"], "pcb");
