@@ -47,7 +47,7 @@ class LvoxelField {
  private:
   long index(long i, long j, long k) const { return (k * cells_[1] + j) * cells_[0] + i; }
 
-  Vec3 origin_;
+  Vec3 origin_{0.0f, 0.0f, 0.0f};
   float spacing_ = 1.0f;
   long cells_[3] = {0, 0, 0};
   size_t channels_ = 0;

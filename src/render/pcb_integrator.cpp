@@ -121,7 +121,10 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     cache.field = LvoxelField(volume.media().bounds(), lvoxelSpacing(scene, volume.media()),
                               lvoxelFieldChannels(ctx.lights));
     lvoxels = sampleSceneLvoxels(scene, volume.media(), cache.field);
+    // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
+    // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
+    if (!cache.lvoxels) cache.field = LvoxelField();
   }
   {
     PhaseTimer timer(report, "octree_build");

@@ -4,8 +4,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "pointcloud/lvoxel_sampler.h"
+#include "src/core/error.h"
 
 namespace lvox {
 namespace {
@@ -52,9 +55,17 @@ RGB lightTransmittance(const RenderContext& ctx, const VolumeTransport& volume, 
 }  // namespace
 
 float lvoxelSpacing(const Scene& scene, const MediaSet& media) {
-  if (scene.pointcloud.lvoxelSpacing > 0.0f) return scene.pointcloud.lvoxelSpacing;
   const Vec3 d = media.bounds().diagonal();
-  return std::max({d.x, d.y, d.z}) / 48.0f;
+  if (!(scene.pointcloud.lvoxelSpacing > 0.0f)) return std::max({d.x, d.y, d.z}) / 48.0f;
+  const float s = scene.pointcloud.lvoxelSpacing;
+  // The grid covers the media's bounds; say so here, naming the scene, before allocating.
+  const double cells = std::ceil(std::max(d.x, 0.0f) / s) * std::ceil(std::max(d.y, 0.0f) / s) *
+                       std::ceil(std::max(d.z, 0.0f) / s);
+  if (cells > 5e7)
+    throw InputError(scene.path, "pointcloud.lvoxel_spacing",
+                     std::to_string(s) + " gives " + std::to_string(static_cast<long long>(cells)) +
+                         " cells over the media (at most 50,000,000)");
+  return s;
 }
 
 LvoxelSet sampleSceneLvoxels(const Scene& scene, const MediaSet& media, LvoxelField& field) {

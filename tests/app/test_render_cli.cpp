@@ -107,6 +107,15 @@ TEST(RenderCli, NegativeResolution) {
 TEST(RenderCli, UnknownKey) {
   expectCleanFailure(replaced("\"spp\": 2", "\"sps\": 2"), "render.sps");
 }
+TEST(RenderCli, LvoxelSpacingFarTooSmall) {
+  expectCleanFailure(
+      replaced(
+          "\"spp\": 2}",
+          "\"spp\": 2, \"mode\": \"pcb\"}, \"pointcloud\": {\"lvoxel_spacing\": 1e-6},\n"
+          "  \"media\": [{\"type\": \"homogeneous\", \"min\": [-1, -1, -1], \"max\": [1, 1, 1], "
+          "\"sigma_s\": 1}]"),
+      "pointcloud.lvoxel_spacing");
+}
 TEST(RenderCli, MissingMesh) {
   expectCleanFailure(
       replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"),
