@@ -26,7 +26,8 @@ VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media
     : ctx_(ctx), media_(media), mediumLights_(ctx.scene, ctx.scene.render.mediumLightSamples) {
   const Scene& scene = ctx.scene;
   const VolumeIntegratorSettings& v = scene.volume;
-  method_ = rte::parseMethod(v.solver, scene.path, "volume_integrator.solver");
+  if (v.solver != "auto")
+    method_ = rte::parseMethod(v.solver, scene.path, "volume_integrator.solver", "auto");
   base_.step = v.step;
   base_.tolerance = v.tolerance;
   base_.minStep = v.minStep;
@@ -44,6 +45,7 @@ VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media
         break;
       }
   }
+  if (v.solver == "auto") auto_.emplace(scene, media, base_);
   if (media.size() > kMaxMedia)
     throw InputError(scene.path, "media",
                      "at most " + std::to_string(kMaxMedia) + " media are supported");
@@ -72,6 +74,11 @@ rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float
   return s;
 }
 
+SegmentPlan VolumeTransport::radiancePlan(const Ray& ray, float t0, float t1, float jitter) const {
+  if (auto_) return auto_->radiance(ray, t0, t1, jitter);
+  return {method_, segmentSettings(ray, t0, t1, jitter)};
+}
+
 RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) const {
   if (media_.empty()) return RGB(1.0f);
   const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
@@ -94,8 +101,10 @@ RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) con
     mergeIntervals(hetero);
     const HeterogeneousExtinction problem{media_, ray};
     for (const auto& [a, b] : hetero) {
+      const SegmentPlan plan = auto_ ? auto_->transmittance(ray, a, b)
+                                     : SegmentPlan{method_, segmentSettings(ray, a, b, 0.5f)};
       const rte::SolveResult<float> r =
-          rte::solveTransmittance(method_, problem, a, b, segmentSettings(ray, a, b, 0.5f));
+          rte::solveTransmittance(plan.method, problem, a, b, plan.settings);
       counts += r.counts;
       tau += toRgb(r.opticalDepth);
     }

@@ -4,9 +4,11 @@
 // selected method (volume/rte). Only the intervals where a medium may be non-zero are
 // integrated (empty space is skipped by the media's own structure).
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
+#include "src/render/auto_solver.h"
 #include "src/render/render_context.h"
 #include "volume/media/media_set.h"
 #include "volume/rte/solve.h"
@@ -19,7 +21,6 @@ class VolumeTransport {
 
   bool empty() const { return media_.empty(); }
   const MediaSet& media() const { return media_; }
-  rte::Method method() const { return method_; }
 
   // Fraction of light surviving along [ray.tmin, ray.tmax]: analytic through homogeneous
   // media, the selected solver (T' = -sigma_t T) through heterogeneous ones.
@@ -43,6 +44,8 @@ class VolumeTransport {
 
  private:
   rte::SolveSettings<float> segmentSettings(const Ray& ray, float t0, float t1, float jitter) const;
+  // The method and settings of one camera-ray segment: the scene's, or auto's choice.
+  SegmentPlan radiancePlan(const Ray& ray, float t0, float t1, float jitter) const;
 
   static rte::Channels<float> toChannels(const RGB& c) { return {c.x, c.y, c.z}; }
   static RGB toRgb(const rte::Channels<float>& c) { return {c[0], c[1], c[2]}; }
@@ -50,7 +53,8 @@ class VolumeTransport {
   const RenderContext& ctx_;
   const MediaSet& media_;
   LightSet mediumLights_;  // render.medium_light_samples per area light and environment
-  rte::Method method_;
+  rte::Method method_ = rte::Method::kRk4;
+  std::optional<AutoSolver> auto_;  // volume_integrator.solver "auto"
   rte::SolveSettings<float> base_;
   bool equiangular_ = false;
   bool distanceSampling_ = false;
@@ -94,8 +98,9 @@ RGB VolumeTransport::radianceWith(const Ray& ray, float tEnd, const RGB& backgro
   RGB radiance(0.0f), throughput(1.0f);
   const CameraRayProblem<ScatterSource> problem{media_, ray, scatter};
   for (const auto& [a, b] : spans) {
-    const rte::SolveResult<float> r = rte::solve(method_, problem, a, b, rte::Channels<float>(0.0f),
-                                                 segmentSettings(ray, a, b, jitter));
+    const SegmentPlan plan = radiancePlan(ray, a, b, jitter);
+    const rte::SolveResult<float> r = rte::solve(plan.method, problem, a, std::min(b, plan.end),
+                                                 rte::Channels<float>(0.0f), plan.settings);
     counts += r.counts;
     radiance += throughput * toRgb(r.radiance);
     throughput *= toRgb(r.transmittance);

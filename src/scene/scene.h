@@ -85,7 +85,7 @@ struct MediumDesc {
 };
 
 struct VolumeIntegratorSettings {
-  std::string solver = "rk4";
+  std::string solver = "auto";  // or any method of volume/rte/method.h
   float step = 0.1f;  // scene units
   float tolerance = 1e-3f;
   float minStep = 1e-4f;

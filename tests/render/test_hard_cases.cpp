@@ -14,11 +14,25 @@
 namespace lvox {
 namespace {
 
-const char* const kSolvers[] = {"euler",          "rk2",        "rk4",          "ab4",
-                                "backward-euler", "trapezoid",  "trapezoid-pc", "rk12",
-                                "bs23",           "rkf45",      "cashkarp",     "dopri5",
-                                "verner56",       "rectangle",  "simpson",      "adaptive-simpson",
-                                "gauss-kronrod",  "monte-carlo"};
+const char* const kSolvers[] = {"auto",
+                                "euler",
+                                "rk2",
+                                "rk4",
+                                "ab4",
+                                "backward-euler",
+                                "trapezoid",
+                                "trapezoid-pc",
+                                "rk12",
+                                "bs23",
+                                "rkf45",
+                                "cashkarp",
+                                "dopri5",
+                                "verner56",
+                                "rectangle",
+                                "simpson",
+                                "adaptive-simpson",
+                                "gauss-kronrod",
+                                "monte-carlo"};
 
 TEST(HardCases, NoSolverProducesInvalidRadianceAtAnyStep) {
   const std::filesystem::path dir = std::filesystem::path(LVOX_SOURCE_DIR) / "scenes" / "hard";

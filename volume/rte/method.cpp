@@ -81,8 +81,9 @@ bool isQuadrature(Method m) {
          m == Method::kGaussKronrod || m == Method::kMonteCarlo;
 }
 
-Method parseMethod(std::string_view name, const std::string& file, const std::string& field) {
-  std::string valid;
+Method parseMethod(std::string_view name, const std::string& file, const std::string& field,
+                   std::string_view alsoValid) {
+  std::string valid(alsoValid);
   for (const MethodInfo& i : kInfo) {
     if (i.name == name) return i.method;
     valid += (valid.empty() ? "" : ", ") + std::string(i.name);

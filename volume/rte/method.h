@@ -43,9 +43,10 @@ enum class Sampling { kNone, kDistance, kEquiangular };
 std::string_view methodName(Method m);
 std::string_view samplingName(Sampling s);
 
-// name -> method; throws lvox::InputError(file, field, ...) listing the valid names.
+// name -> method; throws lvox::InputError(file, field, ...) listing the valid names,
+// `alsoValid` first (a name the caller handles itself, such as "auto").
 Method parseMethod(std::string_view name, const std::string& file = "volume_integrator",
-                   const std::string& field = "solver");
+                   const std::string& field = "solver", std::string_view alsoValid = {});
 Sampling parseSampling(std::string_view name, const std::string& file = "volume_integrator",
                        const std::string& field = "sampling");
 

@@ -1,0 +1,243 @@
+#include "src/render/auto_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "volume/rte/change_of_variable.h"
+
+namespace lvox {
+namespace {
+
+constexpr float kDegrees = kPi / 180.0f;
+
+// The widest gap between the nodes of one step, as a fraction of the step: dopri5's
+// stages sit at 0, 1/5, 3/10, 4/5, 8/9, 1 and RK4's at 0, 1/2, 1. A step up to
+// featureSize / kLargestNodeGap puts a node on every feature.
+constexpr float kLargestNodeGap = 0.5f;
+// Optical depth after which the rest of a segment is invisible (T < 1e-7).
+constexpr float kOpaqueDepth = 16.2f;
+// The tolerance at which shadow rays take the scene's step (the scene files' default).
+constexpr float kReferenceTolerance = 1e-3f;
+// Steps across a spot beam's width at the ray.
+constexpr float kStepsPerBeam = 4.0f;
+
+float smallestVoxel(const DenseGrid& g) {
+  const Transform& m = g.indexToWorld;
+  float s = kInf;
+  for (const Vec3& axis : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)})
+    s = std::min(s, length(m.vector(axis)));
+  return s;
+}
+
+// The width of the narrowest bump a medium's density can have.
+float featureSize(const Medium& m) {
+  switch (m.type) {
+    case MediumType::Homogeneous:
+      return kInf;
+    case MediumType::Vdb:
+      // A one-voxel spike spreads over 1, 2 or 4 voxels under nearest, trilinear and
+      // tricubic interpolation.
+      if (!m.density) return kInf;
+      return smallestVoxel(*m.density) * (m.interpolation == Interpolation::Nearest     ? 1.0f
+                                          : m.interpolation == Interpolation::Trilinear ? 2.0f
+                                                                                        : 4.0f);
+    case MediumType::Procedural:
+      switch (m.procedural) {
+        case ProceduralKind::Noise:
+          return 0.5f / std::max(m.frequency, 1e-6f);  // a bump is half a period wide
+        case ProceduralKind::GaussianBlob:
+          return m.radius;
+        default:
+          return kInf;  // constant or linear: nothing to step over
+      }
+  }
+  return kInf;
+}
+
+}  // namespace
+
+void coneCrossings(const Ray& ray, const Vec3& apex, const Vec3& axis, float cosAngle, float t0,
+                   float t1, std::vector<float>& out) {
+  // (dot(v + t d, A))^2 = c^2 |v + t d|^2 with v = o - apex: a quadratic in t.
+  const Vec3 v = ray.origin - apex;
+  const double dA = dot(ray.dir, axis), vA = dot(v, axis), c2 = double(cosAngle) * cosAngle;
+  const double a = dA * dA - c2;
+  const double b = 2.0 * (dA * vA - c2 * dot(ray.dir, v));
+  const double c = vA * vA - c2 * dot(v, v);
+  double roots[2];
+  int n = 0;
+  if (std::abs(a) < 1e-12) {
+    if (std::abs(b) > 1e-12) roots[n++] = -c / b;
+  } else {
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0.0) return;
+    // The numerically stable pair (no cancellation between -b and sqrt(disc)).
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    roots[n++] = q / a;
+    if (q != 0.0) roots[n++] = c / q;
+  }
+  for (int i = 0; i < n; ++i) {
+    const float t = static_cast<float>(roots[i]);
+    if (!(t > t0 && t < t1)) continue;
+    if (dot(ray.at(t) - apex, axis) <= 0.0f) continue;  // the mirror cone behind the apex
+    out.push_back(t);
+  }
+}
+
+AutoSolver::AutoSolver(const Scene& scene, const MediaSet& media,
+                       const rte::SolveSettings<float>& base)
+    : media_(media), base_(base) {
+  for (const Light& l : scene.lights) {
+    if (l.type != LightType::Point && l.type != LightType::Spot) continue;
+    pointSources_.push_back({l.position, maxComponent(l.intensity)});
+    if (l.type != LightType::Spot) continue;
+    const float inner = std::max(0.0f, l.coneDeg - l.falloffDeg);
+    spots_.push_back({l.position, l.direction, std::cos(l.coneDeg * kDegrees),
+                      inner > 0.0f ? std::cos(inner * kDegrees) : 2.0f,
+                      std::tan(std::min(l.coneDeg, 89.0f) * kDegrees)});
+  }
+  for (const Medium& m : media.media()) featureSize_.push_back(featureSize(m));
+}
+
+bool AutoSolver::homogeneousOn(const Ray& ray, float t0, float t1) const {
+  thread_local std::vector<std::pair<float, float>> spans;
+  for (size_t i = 0; i < media_.size(); ++i) {
+    if (media_[i].homogeneous()) continue;
+    spans.clear();
+    media_[i].intervals(ray, t0, t1, spans);
+    if (!spans.empty()) return false;
+  }
+  return true;
+}
+
+void AutoSolver::addMediumFaces(const Ray& ray, float t0, float t1,
+                                std::vector<float>& breaks) const {
+  for (const Medium& m : media_.media()) {
+    float a, b;
+    Ray r = ray;
+    r.tmin = -kInf;
+    r.tmax = kInf;
+    if (!m.bounds.intersect(r, a, b)) continue;
+    for (float t : {a, b})
+      if (t > t0 && t < t1) breaks.push_back(t);
+  }
+}
+
+float AutoSolver::addLightStructure(const Ray& ray, float t0, float t1,
+                                    std::vector<float>& breaks) const {
+  float cap = kInf;
+  for (const Spot& s : spots_) {
+    const size_t before = breaks.size();
+    coneCrossings(ray, s.apex, s.axis, s.cosOuter, t0, t1, breaks);
+    if (s.cosInner <= 1.0f) coneCrossings(ray, s.apex, s.axis, s.cosInner, t0, t1, breaks);
+    // The beam's width where the segment passes closest to the apex (or inside the beam
+    // when the segment does not cross its edge, e.g. it starts and ends inside it).
+    const float tc = std::clamp(dot(s.apex - ray.origin, ray.dir), t0, t1);
+    const Vec3 toPoint = ray.at(tc) - s.apex;
+    const float along = dot(toPoint, s.axis);
+    const bool inside = along > 0.0f && along >= length(toPoint) * s.cosOuter;
+    if (breaks.size() == before && !inside) continue;
+    const float width = 2.0f * std::max(along, 0.0f) * s.tanOuter;
+    if (width > 0.0f) cap = std::min(cap, width / kStepsPerBeam);
+  }
+  return cap;
+}
+
+float AutoSolver::smallestExtinctionOn(const Ray& ray, float t0, float t1) const {
+  thread_local std::vector<std::pair<float, float>> spans;
+  float sigma = kInf;
+  for (const Medium& m : media_.media()) {
+    spans.clear();
+    m.intervals(ray, t0, t1, spans);
+    if (spans.empty()) continue;
+    const RGB t = m.homogeneous() ? m.majorant() : RGB(0.0f);
+    sigma = std::min({sigma, t.x, t.y, t.z});
+  }
+  return std::isinf(sigma) ? 0.0f : sigma;
+}
+
+float AutoSolver::heterogeneousFeatureSize(const Ray& ray, float t0, float t1) const {
+  thread_local std::vector<std::pair<float, float>> spans;
+  float size = kInf;
+  for (size_t i = 0; i < media_.size(); ++i) {
+    if (featureSize_[i] >= size) continue;
+    spans.clear();
+    media_[i].intervals(ray, t0, t1, spans);
+    if (!spans.empty()) size = featureSize_[i];
+  }
+  return size;
+}
+
+SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitter) const {
+  SegmentPlan plan;
+  rte::SolveSettings<float>& s = plan.settings;
+  s = base_;
+  s.jitter = jitter;
+  addMediumFaces(ray, t0, t1, s.breakpoints);
+  const float beamCap = addLightStructure(ray, t0, t1, s.breakpoints);
+  std::sort(s.breakpoints.begin(), s.breakpoints.end());
+  plan.end = t1;
+  if (homogeneousOn(ray, t0, t1)) {
+    plan.method = kHomogeneousMethod;
+    // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.
+    const float sigmaMin = smallestExtinctionOn(ray, t0, t1);
+    if (sigmaMin > 0.0f) t1 = plan.end = std::min(t1, t0 + kOpaqueDepth / sigmaMin);
+    const float cap = std::min(base_.maxStep, beamCap);
+    s.step = cap;
+    // Flatten the largest factor of the integrand: the brightest point source's 1/r^2
+    // (by intensity over squared distance to the ray), else the attenuation.
+    float best = 0.0f;
+    for (const PointSource& p : pointSources_) {
+      const Vec3 toLight = p.position - ray.origin;
+      const float delta = dot(toLight, ray.dir);
+      const float h = std::max(1e-4f, length(toLight - ray.dir * delta));
+      const float peak = p.intensity / (h * h);
+      if (peak <= best) continue;
+      best = peak;
+      s.sampling = rte::Sampling::kEquiangular;
+      s.delta = delta;
+      s.h = h;
+    }
+    float densest = 1.0f;  // ds/dt where the map is densest
+    if (s.sampling == rte::Sampling::kEquiangular) {
+      densest = 1.0f / s.h;
+    } else {
+      const float sigma = maxComponent(media_.at(ray.at(0.5f * (t0 + t1))).sigmaT());
+      if (sigma > 0.0f) {
+        s.sampling = rte::Sampling::kDistance;
+        s.sigmaRef = sigma;
+        s.splitThickPanels = false;  // the attenuation is now ~linear in s
+        densest = sigma;
+      }
+    }
+    // First panels equal in the new variable, none longer than `cap` (in t) where the map
+    // is densest: they grow where attenuation or distance to the light makes the integrand
+    // small, and Gauss-Kronrod's error estimate splits them where the tolerance asks.
+    const auto map = rte::VariableChange<float>::make(s.sampling, t0, s.sigmaRef, s.delta, s.h);
+    const float panels = std::ceil((map.toS(t1) - map.toS(t0)) / (densest * cap) - 1e-4f);
+    s.step = (t1 - t0) / std::clamp(panels, 1.0f, std::ceil((t1 - t0) / cap));
+    return plan;
+  }
+  plan.method = kHeterogeneousMethod;
+  s.maxStep =
+      std::min({base_.maxStep, beamCap, heterogeneousFeatureSize(ray, t0, t1) / kLargestNodeGap});
+  s.maxStep = std::max(s.maxStep, s.minStep);
+  s.step = std::min(base_.step, s.maxStep);
+  return plan;
+}
+
+SegmentPlan AutoSolver::transmittance(const Ray& ray, float t0, float t1) const {
+  SegmentPlan plan;
+  plan.method = kShadowMethod;
+  rte::SolveSettings<float>& s = plan.settings;
+  s = base_;
+  s.jitter = 0.5f;
+  // RK4's error goes as h^4: the scene's step at the reference tolerance, scaled so that
+  // a tolerance 10x tighter costs 10^(1/4) more steps.
+  const float scaled = base_.step * std::pow(base_.tolerance / kReferenceTolerance, 0.25f);
+  s.step = std::max(s.minStep, std::min({scaled, base_.maxStep,
+                                         heterogeneousFeatureSize(ray, t0, t1) / kLargestNodeGap}));
+  return plan;
+}
+
+}  // namespace lvox

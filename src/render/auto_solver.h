@@ -1,0 +1,84 @@
+#pragma once
+// `--solver auto`: the method and settings each ray segment needs (docs/solvers.md, "auto").
+//   - Every medium on the segment homogeneous: sigma_t is constant between the media's
+//     box faces, so only the source varies. Adaptive Gauss-Kronrod on the integral form,
+//     with the equiangular change of variable around the brightest point or spot light
+//     (its 1/r^2 peak becomes flat), else the distance change of variable (the attenuation
+//     becomes linear). First panels are equal in the new variable and no longer than
+//     max_step where it is densest; integration stops where T < 1e-7.
+//   - A heterogeneous medium on the segment: the embedded pair dopri5 at the tolerance,
+//     its step capped by twice the narrowest density bump (2 voxels trilinear, half a noise
+//     period) so a stage node lands on every bump.
+//   - Spot beams: the ray's crossings of each cone (outer and inner edge) are breakpoints,
+//     so no step or panel straddles a beam edge, and inside a beam the step is capped by
+//     the beam's width, so shadows at that scale are resolved. A thin beam is never skipped.
+//   - Box faces of the media are breakpoints (sigma_t jumps there).
+//   - Shadow rays: analytic through homogeneous media (as for every method); through
+//     heterogeneous ones RK4 with the scene's step scaled by (tol / 1e-3)^(1/4), capped
+//     by the feature size. (An adaptive pair cost more for the same error there: the
+//     shadow rays are most of the work of single scattering; docs/results.md.)
+//   - Empty space costs nothing: only the media's occupied intervals are integrated.
+#include <vector>
+
+#include "src/scene/scene.h"
+#include "volume/media/media_set.h"
+#include "volume/rte/settings.h"
+
+namespace lvox {
+
+struct SegmentPlan {
+  rte::Method method = rte::Method::kGaussKronrod;
+  rte::SolveSettings<float> settings;
+  // Where integration may stop: the segment's end, or earlier where the transmittance from
+  // its start is provably below 1e-7 (homogeneous media, auto only).
+  float end = kInf;
+};
+
+class AutoSolver {
+ public:
+  // The methods auto picks from (the sweep's study chose them; docs/results.md).
+  static constexpr rte::Method kHomogeneousMethod = rte::Method::kGaussKronrod;
+  static constexpr rte::Method kHeterogeneousMethod = rte::Method::kDopri5;
+  static constexpr rte::Method kShadowMethod = rte::Method::kRk4;
+
+  AutoSolver(const Scene& scene, const MediaSet& media, const rte::SolveSettings<float>& base);
+
+  // A camera-ray segment [t0, t1] inside one merged medium interval (emission and
+  // in-scattering as the source).
+  SegmentPlan radiance(const Ray& ray, float t0, float t1, float jitter) const;
+  // A shadow-ray segment through heterogeneous media (transmittance only).
+  SegmentPlan transmittance(const Ray& ray, float t0, float t1) const;
+
+ private:
+  struct Spot {
+    Vec3 apex, axis;
+    float cosOuter, cosInner, tanOuter;
+  };
+  struct PointSource {
+    Vec3 position;
+    float intensity;  // max channel, for choosing the brightest one seen from a ray
+  };
+
+  bool homogeneousOn(const Ray& ray, float t0, float t1) const;
+  // The smallest sigma_t (any channel) of the media on the segment; every point of a
+  // merged medium interval lies in at least one of them.
+  float smallestExtinctionOn(const Ray& ray, float t0, float t1) const;
+  // Breakpoints in (t0, t1): media box faces and spot cone crossings; and the cap on the
+  // step from the spot beams the segment crosses (infinity when it crosses none).
+  float addLightStructure(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
+  void addMediumFaces(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
+  float heterogeneousFeatureSize(const Ray& ray, float t0, float t1) const;
+
+  const MediaSet& media_;
+  rte::SolveSettings<float> base_;
+  std::vector<Spot> spots_;
+  std::vector<PointSource> pointSources_;  // point and spot lights
+  std::vector<float> featureSize_;         // per medium (infinity: homogeneous)
+};
+
+// Where the ray crosses the cone {x : dot(x - apex, axis) = |x - apex| cosAngle} in front
+// of the apex, for t in (t0, t1); appended to `out` unsorted.
+void coneCrossings(const Ray& ray, const Vec3& apex, const Vec3& axis, float cosAngle, float t0,
+                   float t1, std::vector<float>& out);
+
+}  // namespace lvox
