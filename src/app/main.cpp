@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   lvox::addRenderCommand(app, exitCode);
   lvox::addCompareCommand(app, exitCode);
   lvox::addMergeCommand(app, exitCode);
+  lvox::addSweepCommand(app, exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

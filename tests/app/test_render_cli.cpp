@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/run_lvox.h"
 #include "src/core/image_io.h"
 #include "src/core/image_metrics.h"
 #include "test_util.h"
@@ -16,26 +17,6 @@ namespace lvox {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int exitCode = -1;
-  std::string err;
-};
-
-RunResult runLvox(const std::string& args, const fs::path& dir) {
-  const fs::path errFile = dir / "stderr.txt";
-  const std::string cmd =
-      std::string(LVOX_BINARY) + " " + args + " >/dev/null 2>" + errFile.string();
-  const int status = std::system(cmd.c_str());
-  RunResult r;
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(errFile);
-  std::ostringstream s;
-  s << in.rdbuf();
-  r.err = s.str();
-  fs::remove(errFile);
-  return r;
-}
 
 const char* kScene = R"({
   "camera": {"position": [0, 2, 4], "look_at": [0, 0, 0], "vfov_deg": 40, "width": 48, "height": 32},

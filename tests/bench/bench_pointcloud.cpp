@@ -134,5 +134,30 @@ void BM_PointCloudGather(benchmark::State& state) {
 }
 BENCHMARK(BM_PointCloudGather)->Arg(0)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
 
+// One thread, single front-to-back traversals: rays from the room's floor up through the
+// fog block (lvoxels attenuate, the ceiling's surfels stop them); arg = max solid angle
+// of lvoxel clusters * 1000 (0: every lvoxel exactly).
+void BM_PointCloudTraversal(benchmark::State& state) {
+  const PointCloud& pc = litCloud();
+  GatherOptions o;
+  o.maxLvoxelSolidAngle = static_cast<float>(state.range(0)) * 1e-3f;
+  Rng rng(5, 0);
+  TraversalScratch scratch;
+  RGB sum(0.0f);
+  for (auto _ : state) {
+    Ray ray;
+    ray.origin = Vec3(1.1f + 1.4f * rng.uniform(), 0.01f, 1.1f + 1.4f * rng.uniform());
+    ray.dir = normalize(Vec3(0.2f * (rng.uniform() - 0.5f), 1.0f, 0.2f * (rng.uniform() - 0.5f)));
+    sum += gatherRay(pc, ray, o, scratch);
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["rays/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["work/ray"] =
+      static_cast<double>(scratch.stats.nodesPopped + scratch.stats.elementsTested) /
+      static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_PointCloudTraversal)->Arg(0)->Arg(30)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace lvox

@@ -1,0 +1,305 @@
+// `lvox sweep SCENE -o DIR`: renders a scene over methods x step sizes / tolerances (and
+// Monte Carlo spp), measures each image against a reference, and writes DIR/sweep.csv
+// and DIR/sweep.png (error against wall time and against medium evaluations, log-log,
+// one curve per method, Pareto front marked). See docs/results.md, "speed against error".
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plot_sweep_script.h"
+#include "src/app/commands.h"
+#include "src/core/atomic_file.h"
+#include "src/core/error.h"
+#include "src/core/image_io.h"
+#include "src/core/image_metrics.h"
+#include "src/render/renderer.h"
+#include "src/scene/scene_loader.h"
+#include "volume/rte/method.h"
+
+extern char** environ;
+
+namespace lvox {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SweepFlags {
+  std::string scene;
+  std::string outDir;
+  std::vector<std::string> methods{"auto",  "euler",     "rk2",     "rk4",
+                                   "ab4",   "trapezoid", "dopri5",  "bs23",
+                                   "rkf45", "rectangle", "simpson", "gauss-kronrod"};
+  std::vector<float> stepScales{4.0f, 2.0f, 1.0f, 0.5f, 0.25f};
+  std::vector<float> tolerances{1e-1f, 1e-2f, 1e-3f, 1e-4f};
+  std::vector<int> mcSpp;
+  std::string reference;
+  std::string referenceSolver = "rk4";
+  float referenceStepScale = 1.0f / 16.0f;
+  std::optional<std::string> mode;
+  std::optional<int> width, height, spp, threads;
+  bool plot = true;
+  bool quiet = false;
+};
+
+// One render of the sweep: a method and the value of its accuracy parameter.
+struct SweepPoint {
+  std::string method;
+  std::string parameter;  // step | tol | spp
+  double value = 0.0;
+};
+
+struct SweepRow {
+  SweepPoint point;
+  double seconds = 0.0;
+  uint64_t mediumEvals = 0, steps = 0, rejected = 0, stabilityEvents = 0, capped = 0, invalid = 0;
+  ImageError error;
+  bool paretoTime = false, paretoEvals = false;
+};
+
+uint64_t countOf(const Report& r, const char* key) {
+  auto it = r.counts.find(key);
+  return it == r.counts.end() ? 0 : it->second;
+}
+
+std::vector<SweepPoint> plan(const SweepFlags& f, const Scene& scene) {
+  std::vector<SweepPoint> points;
+  for (const std::string& m : f.methods) {
+    if (m == "mc") {
+      for (int spp : f.mcSpp) points.push_back({m, "spp", static_cast<double>(spp)});
+      continue;
+    }
+    const bool tolerance =
+        m == "auto" || rte::isAdaptive(rte::parseMethod(m, "--methods", m, "auto"));
+    if (tolerance) {
+      for (float tol : f.tolerances) points.push_back({m, "tol", tol});
+    } else {
+      for (float k : f.stepScales) points.push_back({m, "step", scene.volume.step * k});
+    }
+  }
+  return points;
+}
+
+Scene configured(const Scene& base, const SweepPoint& p) {
+  Scene s = base;
+  if (p.method == "mc") {
+    s.render.mode = "mc";
+    s.render.spp = static_cast<int>(p.value);
+    return s;
+  }
+  s.volume.solver = p.method;
+  if (p.parameter == "tol") s.volume.tolerance = static_cast<float>(p.value);
+  if (p.parameter == "step") s.volume.step = static_cast<float>(p.value);
+  return s;
+}
+
+SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& reference) {
+  Report report;
+  const auto start = std::chrono::steady_clock::now();
+  const Image image = renderScene(configured(scene, p), report);
+  SweepRow row;
+  row.point = p;
+  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  row.mediumEvals = countOf(report, "medium_evals") + countOf(report, "cache_medium_evals");
+  row.steps = countOf(report, "solver_steps");
+  row.rejected = countOf(report, "rejected_steps");
+  row.stabilityEvents = countOf(report, "stability_events");
+  row.capped = countOf(report, "capped_segments");
+  row.invalid = countOf(report, "invalid_samples");
+  row.error = compareImages(image, reference, p.method, "reference");
+  return row;
+}
+
+// A row is on the front when no other row is at most as costly and strictly more accurate
+// (or as accurate and strictly cheaper).
+template <class Cost>
+void markPareto(std::vector<SweepRow>& rows, Cost cost, bool SweepRow::*flag) {
+  for (SweepRow& r : rows) {
+    r.*flag = std::none_of(rows.begin(), rows.end(), [&](const SweepRow& o) {
+      const bool noWorse = cost(o) <= cost(r) && o.error.deltaPercent <= r.error.deltaPercent;
+      const bool better = cost(o) < cost(r) || o.error.deltaPercent < r.error.deltaPercent;
+      return &o != &r && noWorse && better;
+    });
+  }
+}
+
+std::string csvText(const std::string& sceneName, const std::string& mode,
+                    const std::vector<SweepRow>& rows) {
+  std::ostringstream csv;
+  csv.precision(7);
+  csv << "scene,mode,method,parameter,value,seconds,medium_evals,solver_steps,rejected_steps,"
+         "stability_events,capped_segments,invalid_samples,delta_percent,relmse,rmse,psnr_db,"
+         "pareto_time,pareto_evals\n";
+  for (const SweepRow& r : rows)
+    csv << sceneName << ',' << (r.point.method == "mc" ? "mc" : mode) << ',' << r.point.method
+        << ',' << r.point.parameter << ',' << r.point.value << ',' << r.seconds << ','
+        << r.mediumEvals << ',' << r.steps << ',' << r.rejected << ',' << r.stabilityEvents << ','
+        << r.capped << ',' << r.invalid << ',' << r.error.deltaPercent << ',' << r.error.relMse
+        << ',' << r.error.rmse << ',' << r.error.psnrDb << ',' << r.paretoTime << ','
+        << r.paretoEvals << '\n';
+  return csv.str();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  publishAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  });
+}
+
+// Runs the embedded plotting script with Debian's python3 + matplotlib (/usr/bin/python3,
+// where python3-matplotlib installs, ahead of any other python3 on the PATH).
+void plot(const std::string& csvPath, const std::string& pngPath, const std::string& title) {
+  const fs::path script =
+      fs::temp_directory_path() / ("lvox-plot-sweep-" + std::to_string(getpid()) + ".py");
+  {
+    std::ofstream out(script);
+    out << kPlotSweepScript;
+    if (!out) throw InputError(script.string(), "plot", "cannot write the plotting script");
+  }
+  const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  std::vector<std::string> args{python, script.string(), csvPath, pngPath, title};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  int status = -1;
+  const int spawned = posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
+  if (spawned == 0) waitpid(pid, &status, 0);
+  fs::remove(script);
+  if (spawned != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw InputError(pngPath, "plot",
+                     "python3 with matplotlib failed (Debian: python3-matplotlib); the CSV is "
+                     "written, --no-plot skips the plot");
+}
+
+Image referenceImage(const SweepFlags& f, const Scene& scene, std::string& description) {
+  if (!f.reference.empty()) {
+    Image ref = readExr(f.reference);
+    if (ref.width != scene.camera.width || ref.height != scene.camera.height)
+      throw InputError(f.reference, "--reference",
+                       "is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                           ", the sweep renders " + std::to_string(scene.camera.width) + "x" +
+                           std::to_string(scene.camera.height));
+    description = f.reference;
+    return ref;
+  }
+  Scene fine = scene;
+  fine.volume.solver = f.referenceSolver;
+  fine.volume.step = scene.volume.step * f.referenceStepScale;
+  fine.volume.tolerance = std::min(scene.volume.tolerance, 1e-6f);
+  fine.volume.maxEvaluations = std::max(fine.volume.maxEvaluations, 10000000u);
+  std::ostringstream d;
+  d << f.referenceSolver << " at step " << fine.volume.step;
+  description = d.str();
+  Report report;
+  return renderScene(fine, report);
+}
+
+int runSweep(const SweepFlags& f) {
+  Scene scene = loadScene(f.scene);
+  if (f.mode) scene.render.mode = *f.mode;
+  if (f.width) scene.camera.width = *f.width;
+  if (f.height) scene.camera.height = *f.height;
+  if (f.spp) scene.render.spp = *f.spp;
+  if (f.threads) scene.render.threads = *f.threads;
+  validateMode(scene);
+  if (scene.render.mode == "mc")
+    throw InputError(f.scene, "--mode",
+                     "the sweep compares solvers: use direct, pcb or pcb-surfels");
+  if (!fs::is_directory(f.outDir))
+    throw InputError(f.outDir, "--output", "is not an existing directory");
+  for (const std::string& m : f.methods)
+    if (m == "mc" && f.mcSpp.empty()) throw InputError(f.scene, "--methods", "mc needs --mc-spp");
+  const std::vector<SweepPoint> points = plan(f, scene);
+  const std::string csvPath = (fs::path(f.outDir) / "sweep.csv").string();
+  const std::string pngPath = (fs::path(f.outDir) / "sweep.png").string();
+  checkOutputPath(csvPath, "--output", scene.inputFiles);
+
+  std::string refDescription;
+  const Image reference = referenceImage(f, scene, refDescription);
+  if (!f.quiet)
+    std::fprintf(stderr, "lvox sweep: %zu renders of %s (%s mode) against %s\n", points.size(),
+                 fs::path(f.scene).filename().c_str(), scene.render.mode.c_str(),
+                 refDescription.c_str());
+  std::vector<SweepRow> rows;
+  for (const SweepPoint& p : points) {
+    rows.push_back(renderPoint(scene, p, reference));
+    const SweepRow& r = rows.back();
+    if (!f.quiet)
+      std::fprintf(stderr, "  %-16s %s %-9.4g %8.3f s %13llu evals  delta %.4f %%\n",
+                   p.method.c_str(), p.parameter.c_str(), p.value, r.seconds,
+                   static_cast<unsigned long long>(r.mediumEvals), r.error.deltaPercent);
+  }
+  markPareto(
+      rows, [](const SweepRow& r) { return r.seconds; }, &SweepRow::paretoTime);
+  markPareto(
+      rows, [](const SweepRow& r) { return static_cast<double>(r.mediumEvals); },
+      &SweepRow::paretoEvals);
+  const std::string name = fs::path(f.scene).stem().string();
+  writeText(csvPath, csvText(name, scene.render.mode, rows));
+  if (f.plot)
+    plot(csvPath, pngPath,
+         name + " (" + scene.render.mode + ", " + std::to_string(scene.camera.width) + "x" +
+             std::to_string(scene.camera.height) + ", " + std::to_string(scene.render.spp) +
+             " spp) vs " + refDescription);
+  if (!f.quiet) std::fprintf(stderr, "lvox sweep: wrote %s\n", csvPath.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addSweepCommand(CLI::App& app, int& exitCode) {
+  auto f = std::make_shared<SweepFlags>();
+  CLI::App* cmd = app.add_subcommand(
+      "sweep", "Render a scene over solvers x steps/tolerances; CSV and plots of error vs cost");
+  cmd->add_option("scene", f->scene, "Scene file (JSON)")->required();
+  cmd->add_option("-o,--output", f->outDir, "Existing directory for sweep.csv and sweep.png")
+      ->required();
+  cmd->add_option("--methods", f->methods,
+                  "Comma-separated: auto, any solver name, mc (Monte Carlo, with --mc-spp)")
+      ->delimiter(',');
+  cmd->add_option("--step-scales", f->stepScales,
+                  "Fixed-step methods: multiples of the scene's step")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tols", f->tolerances, "Adaptive methods and auto: tolerances")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--mc-spp", f->mcSpp, "Monte Carlo: samples per pixel")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--reference", f->reference,
+                  "Reference EXR (e.g. a converged MC render); default: a fine render")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--reference-solver", f->referenceSolver, "Solver of the fine reference");
+  cmd->add_option("--reference-step-scale", f->referenceStepScale,
+                  "Step of the fine reference as a multiple of the scene's step")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--mode", f->mode, "direct | pcb | pcb-surfels");
+  cmd->add_option("--width", f->width, "Image width")->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", f->height, "Image height")->check(CLI::Range(1, 16384));
+  cmd->add_option("--spp", f->spp, "Samples per pixel of the solver renders")
+      ->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--threads", f->threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_flag("!--no-plot", f->plot, "Write only the CSV");
+  cmd->add_flag("-q,--quiet", f->quiet, "No progress lines");
+  cmd->callback([f, &exitCode]() { exitCode = runSweep(*f); });
+}
+
+}  // namespace lvox

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The speed-against-error study of docs/results.md: `lvox sweep` over every hard case
+# (128x128, 2 spp, direct mode, against a fine RK4 render with the same camera rays) and
+# over the atrium with smoke (direct mode, 128x128; and pcb mode at 512x512 with the
+# Monte Carlo curve, against the converged MC reference when one is given).
+#   tests/bench/sweep_study.sh [OUT_DIR] [ATRIUM_MC_REFERENCE.exr]
+# After .ci/setup; about 25 minutes on 2 cores without the pcb part.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out=${1:-docs/images/sweep}
+mcref=${2:-}
+mkdir -p "$out"
+lvox=${LVOX:-build/lvox}
+common=(--width 128 --height 128 --spp 2 -q)
+# The fine reference must resolve what the coarse renders miss: the thin beam is 0.05
+# units wide near the spot, so its reference takes 1/128 of the scene's step.
+declare -A refscale=([thin_beam]=0.0078125 [sharp_shadow]=0.03125)
+for scene in scenes/hard/*.json; do
+  name=$(basename "$scene" .json)
+  mkdir -p "$out/$name"
+  extra=()
+  # GK and adaptive pairs through the busy noise field cost minutes per point: keep 3 tols.
+  if [ "$name" = high_frequency ]; then extra=(--tols 0.1,0.01,0.001); fi
+  $lvox sweep "$scene" -o "$out/$name" "${common[@]}" \
+    --reference-step-scale "${refscale[$name]:-0.0625}" "${extra[@]}"
+  echo "$name done" >&2
+done
+mkdir -p "$out/atrium_smoke_direct"
+$lvox sweep scenes/atrium_smoke.json -o "$out/atrium_smoke_direct" --mode direct "${common[@]}" \
+  --methods auto,euler,rk2,rk4,dopri5,bs23,simpson,rectangle --tols 0.1,0.01,0.001
+if [ -n "$mcref" ]; then
+  mkdir -p "$out/atrium_smoke_pcb"
+  $lvox sweep scenes/atrium_smoke.json -o "$out/atrium_smoke_pcb" --mode pcb -q \
+    --reference "$mcref" --methods auto,euler,rk4,dopri5,mc --step-scales 4,1 \
+    --tols 0.1,0.001 --mc-spp 4,16,64
+fi
+for f in "$out"/*/sweep.csv; do echo "== $f"; cat "$f"; done
