@@ -14,6 +14,8 @@ constexpr float kDegrees = kPi / 180.0f;
 // stages sit at 0, 1/5, 3/10, 4/5, 8/9, 1 and RK4's at 0, 1/2, 1. A step up to
 // featureSize / kLargestNodeGap puts a node on every feature.
 constexpr float kLargestNodeGap = 0.5f;
+// Kronrod-15's widest gap between adjacent nodes (about the centre), per unit panel length.
+constexpr float kKronrodLargestGap = 0.104f;
 // Optical depth after which the rest of a segment is invisible (T < 1e-7).
 constexpr float kOpaqueDepth = 16.2f;
 // The tolerance at which shadow rays take the scene's step (the scene files' default).
@@ -182,7 +184,9 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.
     const float sigmaMin = smallestExtinctionOn(ray, t0, t1);
     if (sigmaMin > 0.0f) t1 = plan.end = std::min(t1, t0 + kOpaqueDepth / sigmaMin);
-    const float cap = std::min(base_.maxStep, beamCap);
+    // No two evaluations further apart than the scene's step (or a quarter beam) where the
+    // map is densest: a panel may span that gap over Kronrod's widest node gap.
+    const float cap = std::min({base_.step, base_.maxStep, beamCap}) / kKronrodLargestGap;
     s.step = cap;
     // Flatten the largest factor of the integrand: the brightest point source's 1/r^2
     // (by intensity over squared distance to the ray), else the attenuation.

@@ -128,7 +128,8 @@ TEST(AutoSolverPlan, SpotBeamEdgesAreBreakpointsAndCapTheStep) {
     "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0]},
     "lights": [{"type": "spot", "position": [0, 0, 0], "direction": [1, 0, 0], "intensity": 5,
                 "cone_deg": 10, "falloff_deg": 2}],
-    "media": [{"type": "homogeneous", "min": [-10, -10, -10], "max": [10, 10, 10], "sigma_s": 0.1}]})");
+    "media": [{"type": "homogeneous", "min": [-10, -10, -10], "max": [10, 10, 10], "sigma_s": 0.1}],
+    "volume_integrator": {"step": 1}})");
   const SegmentPlan plan = p.solver->radiance(rayFrom({4, -5, 0}, {0, 1, 0}), 0.0f, 10.0f, 0.5f);
   const float outer = 4.0f * std::tan(10.0f * kPi / 180.0f);
   const float inner = 4.0f * std::tan(8.0f * kPi / 180.0f);
@@ -136,13 +137,15 @@ TEST(AutoSolverPlan, SpotBeamEdgesAreBreakpointsAndCapTheStep) {
   ASSERT_EQ(plan.settings.breakpoints.size(), 4u);
   for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(plan.settings.breakpoints[i], expected[i], 1e-4f);
   // Gauss-Kronrod's first panels are equal in the equiangular variable around the spot;
-  // where the ray passes the beam (dt/ds = h there) they span at most a quarter of its width.
+  // where the ray passes the beam (dt/ds = h there) Kronrod's widest node gap (0.104 of a
+  // panel) is at most a quarter of the beam's width.
   EXPECT_EQ(plan.settings.sampling, rte::Sampling::kEquiangular);
   const float panels = std::ceil(10.0f / plan.settings.step - 1e-4f);
   const auto map = rte::VariableChange<float>::make(rte::Sampling::kEquiangular, 0.0f, 1.0f,
                                                     plan.settings.delta, plan.settings.h);
   const float panelAtBeam = (map.toS(10.0f) - map.toS(0.0f)) / panels * plan.settings.h;
-  EXPECT_LE(panelAtBeam, 1.001f * 2.0f * outer / 4.0f);
+  EXPECT_LE(0.104f * panelAtBeam, 1.001f * 2.0f * outer / 4.0f);
+  EXPECT_GE(0.104f * panelAtBeam, 0.5f * 2.0f * outer / 4.0f);  // and not needlessly finer
 }
 
 // Oracle 2.1 with kappa = 0 (shared/oracles.md): a horizontal ray inside a lit slab.
@@ -165,13 +168,13 @@ const char* kPointLight = R"({
   "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [5, 2, 1], "sigma_a": 0.3, "sigma_s": 0.4}]})";
 constexpr double kPointLightExpected = 0.268894006206365554;
 
-// Recorded bounds: measured slab error 1.2e-7 with 105 evaluations; point light 45
+// Recorded bounds: measured slab error 1.2e-7 with 120 evaluations; point light 45
 // evaluations. The evaluation bounds leave 2x room for honest changes; the error bounds
 // sit near float precision, where any lost structure would show at once.
 TEST(AutoSolverRegression, SlabClosedForm) {
   const Pixel px = renderPixel(kSlab, "auto");
   EXPECT_NEAR(px.value.x, slabExpected(), 1e-5 * slabExpected());
-  EXPECT_LE(px.mediumEvals, 210u);
+  EXPECT_LE(px.mediumEvals, 240u);
 }
 
 TEST(AutoSolverRegression, PointLightClosedFormBeatsRk4AtTheSameCost) {
