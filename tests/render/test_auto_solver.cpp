@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "src/render/auto_solver.h"
+#include "render/render_pixel.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 #include "volume/rte/change_of_variable.h"
@@ -20,17 +21,10 @@ struct Pixel {
 
 Pixel renderPixel(const std::string& text, const std::string& solver, float step = 0.1f,
                   float tol = 1e-3f) {
-  Scene scene = parseScene(text, "/tmp/auto-solver-test.json");
-  scene.render.mode = "direct";
+  Scene scene = test::directScene(text, solver, step, tol);
   scene.render.spp = 1;
-  scene.volume.solver = solver;
-  scene.volume.step = step;
-  scene.volume.tolerance = tol;
-  Report report;
-  Pixel p;
-  p.value = renderScene(scene, report).at(0, 0);
-  p.mediumEvals = report.counts.at("medium_evals");
-  return p;
+  const test::Pixel p = test::renderPixel(scene);
+  return {p.value, p.report.counts.at("medium_evals")};
 }
 
 Ray rayFrom(const Vec3& o, const Vec3& d) {

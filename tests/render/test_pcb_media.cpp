@@ -4,24 +4,18 @@
 
 #include <cmath>
 
-#include "src/render/renderer.h"
-#include "src/scene/scene_loader.h"
+#include "render/render_pixel.h"
 
 namespace lvox {
 namespace {
 
-struct Pixel {
-  RGB value;
-  Report report;
-};
+using test::Pixel;
 
 Pixel renderPixel(const std::string& text, const std::string& mode, int spp = 1) {
   Scene scene = parseScene(text, "/tmp/pcb-media-test.json");
   scene.render.mode = mode;
   scene.render.spp = spp;
-  Pixel p;
-  p.value = renderScene(scene, p.report).at(0, 0);
-  return p;
+  return test::renderPixel(scene);
 }
 
 // Oracle 2.1 (kappa = 0) in a slab of finite width: a horizontal camera ray at y = 0.5

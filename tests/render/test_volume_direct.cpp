@@ -4,28 +4,16 @@
 #include <cmath>
 #include <sstream>
 
-#include "src/render/renderer.h"
-#include "src/scene/scene_loader.h"
+#include "render/render_pixel.h"
 
 namespace lvox {
 namespace {
 
-struct Pixel {
-  RGB value;
-  Report report;
-};
+using test::Pixel;
 
 Pixel renderPixel(const std::string& text, const std::string& solver, float step,
                   const std::string& sampling = "none", float tol = 1e-6f) {
-  Scene scene = parseScene(text, "/tmp/volume-test.json");
-  scene.render.mode = "direct";
-  scene.volume.solver = solver;
-  scene.volume.step = step;
-  scene.volume.tolerance = tol;
-  scene.volume.sampling = sampling;
-  Pixel p;
-  p.value = renderScene(scene, p.report).at(0, 0);
-  return p;
+  return test::renderPixel(test::directScene(text, solver, step, tol, sampling));
 }
 
 // Oracle 2.1 with kappa = 0: a horizontal camera ray inside a homogeneous slab lit by a
