@@ -166,7 +166,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "Output EXR path (a PNG preview is written beside it)")
       ->required();
   cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
-  cmd->add_option("--mode", flags->mode, "direct | mc");
+  cmd->add_option("--mode", flags->mode, "pcb | pcb-surfels | direct | mc");
   cmd->add_option("--spp", flags->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path")
       ->check(CLI::Range(0, 1 << 16));
@@ -175,7 +175,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--width", flags->width, "Image width")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", flags->height, "Image height")->check(CLI::Range(1, 16384));
-  cmd->add_option("--solver", flags->solver, "Volume solver (see docs/solvers.md)");
+  cmd->add_option("--solver", flags->solver, "Volume solver: auto or a method (docs/solvers.md)");
   cmd->add_option("--step", flags->step, "Volume step in scene units")->check(CLI::PositiveNumber);
   cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers")
       ->check(CLI::PositiveNumber);
