@@ -189,7 +189,7 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     const float cap = std::min({base_.step, base_.maxStep, beamCap}) / kKronrodLargestGap;
     s.step = cap;
     // Flatten the largest factor of the integrand: the brightest point source's 1/r^2
-    // (by intensity over squared distance to the ray), else the attenuation.
+    // (by intensity over squared distance to the ray).
     float best = 0.0f;
     for (const PointSource& p : pointSources_) {
       const Vec3 toLight = p.position - ray.origin;
@@ -202,18 +202,10 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
       s.delta = delta;
       s.h = h;
     }
-    float densest = 1.0f;  // ds/dt where the map is densest
-    if (s.sampling == rte::Sampling::kEquiangular) {
-      densest = 1.0f / s.h;
-    } else {
-      const float sigma = maxComponent(media_.at(ray.at(0.5f * (t0 + t1))).sigmaT());
-      if (sigma > 0.0f) {
-        s.sampling = rte::Sampling::kDistance;
-        s.sigmaRef = sigma;
-        s.splitThickPanels = false;  // the attenuation is now ~linear in s
-        densest = sigma;
-      }
-    }
+    // Without a point light the attenuation is the only varying factor, and sigma_t is
+    // constant: Gauss-Kronrod in t (thick panels split) costs less than under the distance
+    // map, whose mapped sigma_t ~ 1 / (1 - s) its node interpolant represents poorly.
+    const float densest = s.sampling == rte::Sampling::kEquiangular ? 1.0f / s.h : 1.0f;
     // First panels equal in the new variable, none longer than `cap` (in t) where the map
     // is densest: they grow where attenuation or distance to the light makes the integrand
     // small, and Gauss-Kronrod's error estimate splits them where the tolerance asks.

@@ -3,10 +3,9 @@
 //   - Every medium on the segment homogeneous: sigma_t is constant between the media's
 //     box faces, so only the source varies. Adaptive Gauss-Kronrod on the integral form,
 //     with the equiangular change of variable around the brightest point or spot light
-//     (its 1/r^2 peak becomes flat), else the distance change of variable (the attenuation
-//     becomes linear). First panels are equal in the new variable, and where it is densest
-//     no two of their nodes are further apart than the scene's step; integration stops
-//     where T < 1e-7.
+//     (its 1/r^2 peak becomes flat). First panels are equal in that variable (in t
+//     without a point light), and where it is densest no two of their nodes are further
+//     apart than the scene's step; integration stops where T < 1e-7.
 //   - A heterogeneous medium on the segment: the embedded pair dopri5 at the tolerance,
 //     its step capped by twice the narrowest density bump (2 voxels trilinear, half a noise
 //     period) so a stage node lands on every bump.

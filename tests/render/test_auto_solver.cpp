@@ -86,16 +86,14 @@ TEST(AutoSolverPlan, HomogeneousMediumWithAPointLightUsesEquiangularGaussKronrod
   EXPECT_EQ(plan.end, 5.0f);  // tau = 3.5 over the segment: nothing to cut
 }
 
-TEST(AutoSolverPlan, HomogeneousMediumWithoutPointLightsUsesDistanceMapAndStopsWhenOpaque) {
+TEST(AutoSolverPlan, HomogeneousMediumWithoutPointLightsStopsWhenOpaque) {
   const Planner p(R"({
     "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0]},
     "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": 1}],
     "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [5, 2, 1], "sigma_a": 5, "sigma_s": 45}]})");
   const SegmentPlan plan = p.solver->radiance(rayFrom({0, 0, 0}, {1, 0, 0}), 0.0f, 5.0f, 0.5f);
   EXPECT_EQ(plan.method, rte::Method::kGaussKronrod);
-  EXPECT_EQ(plan.settings.sampling, rte::Sampling::kDistance);
-  EXPECT_FLOAT_EQ(plan.settings.sigmaRef, 50.0f);
-  EXPECT_FALSE(plan.settings.splitThickPanels);
+  EXPECT_EQ(plan.settings.sampling, rte::Sampling::kNone);
   EXPECT_NEAR(plan.end, 16.2f / 50.0f, 1e-5f);  // T < 1e-7 beyond
 }
 
@@ -162,13 +160,14 @@ const char* kPointLight = R"({
   "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [5, 2, 1], "sigma_a": 0.3, "sigma_s": 0.4}]})";
 constexpr double kPointLightExpected = 0.268894006206365554;
 
-// Recorded bounds: measured slab error 1.2e-7 with 120 evaluations; point light 45
-// evaluations. The evaluation bounds leave 2x room for honest changes; the error bounds
-// sit near float precision, where any lost structure would show at once.
+// Recorded bounds: measured slab 255 evaluations (17 first panels: the 15 units at
+// nodes no more than the default step 0.1 apart, plus the jittered partial one); point
+// light 45. The evaluation bounds leave about 1.5-2x room for honest changes; the error
+// bounds sit near float precision, where any lost structure would show at once.
 TEST(AutoSolverRegression, SlabClosedForm) {
   const Pixel px = renderPixel(kSlab, "auto");
   EXPECT_NEAR(px.value.x, slabExpected(), 1e-5 * slabExpected());
-  EXPECT_LE(px.mediumEvals, 240u);
+  EXPECT_LE(px.mediumEvals, 400u);
 }
 
 TEST(AutoSolverRegression, PointLightClosedFormBeatsRk4AtTheSameCost) {

@@ -161,7 +161,7 @@ Real panelError(const RayState<Real>& s, const Channels<Real>& dq, const Channel
 // tol * (panel length / segment length), else halved (2 new evaluations, the 3 old reused).
 // The accepted value is Simpson's. Panels are processed left to right so T is known.
 template <class Real, class Eval>
-void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, bool splitThick,
+void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, 
                          const JitteredGrid<Real>& grid, Real tol, Real minStep, Real length) {
   struct Panel {
     Real a, b;
@@ -186,7 +186,7 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, bool spl
       const bool broke = !eval.canAfford(2);
       // Both nested rules miss a boundary layer thinner than the panel and would agree on
       // the wrong answer: an optically thick panel (tau > 2) is split regardless.
-      const bool thick = splitThick && sp.tau.maxComponent() > Real(2);
+      const bool thick = sp.tau.maxComponent() > Real(2);
       if (thick && !broke && h / 2 >= minStep) ++eval.counts().stabilityEvents;
       if ((err <= tol * h / length && !thick) || h / 2 < minStep || broke) {
         eval.counts().capped = eval.counts().capped || (broke && err > tol * h / length);
@@ -209,7 +209,7 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, bool spl
 // Adaptive G7-K15 with recursive halving (all 15 samples of a rejected panel are dropped,
 // as Munoz 2014 describes). The accepted value is K15's; the error estimate |K15 - G7|.
 template <class Real, class Eval>
-void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, bool splitThick,
+void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, 
                       const JitteredGrid<Real>& grid, Real tol, Real minStep, Real length) {
   const GaussKronrod15& gk = gaussKronrod15();
   std::vector<std::pair<Real, Real>> stack;
@@ -242,7 +242,7 @@ void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, bool splitT
       }
       const Real err = panelError(s, qK - qG, tauK - tauG);
       // As in adaptive Simpson: an optically thick panel fools both rules alike; split it.
-      const bool thick = splitThick && tauK.maxComponent() > Real(4);
+      const bool thick = tauK.maxComponent() > Real(4);
       if (thick && half >= minStep) ++eval.counts().stabilityEvents;
       if ((err <= tol * (pb - pa) / length && !thick) || half < minStep) {
         applyPanel(s, qK, tauK);

@@ -23,11 +23,6 @@ struct SolveSettings {
   // Sorted t where sigma or the source jump (medium boundaries, shadow edges, voxel faces):
   // no step straddles one and multistep history restarts there (oracles.md 3.3).
   std::vector<Real> breakpoints;
-  // Adaptive quadratures split an optically thick panel (tau > 2 Simpson, > 4 Gauss-
-  // Kronrod) whatever their error estimate says: both nested rules miss a boundary layer
-  // alike. The distance change of variable removes that layer (T becomes ~linear in s),
-  // so --solver auto turns the split off there.
-  bool splitThickPanels = true;
   uint32_t maxEvaluations = 100000;  // per segment; then finish with the last sample
   uint32_t maxRejections = 30;       // consecutive rejections before accepting at minStep
   // Monte Carlo: the sample stream (lvox::Rng(seed, stream)).
