@@ -161,7 +161,7 @@ Real panelError(const RayState<Real>& s, const Channels<Real>& dq, const Channel
 // tol * (panel length / segment length), else halved (2 new evaluations, the 3 old reused).
 // The accepted value is Simpson's. Panels are processed left to right so T is known.
 template <class Real, class Eval>
-void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b, 
+void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b,
                          const JitteredGrid<Real>& grid, Real tol, Real minStep, Real length) {
   struct Panel {
     Real a, b;
@@ -209,8 +209,8 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b,
 // Adaptive G7-K15 with recursive halving (all 15 samples of a rejected panel are dropped,
 // as Munoz 2014 describes). The accepted value is K15's; the error estimate |K15 - G7|.
 template <class Real, class Eval>
-void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, 
-                      const JitteredGrid<Real>& grid, Real tol, Real minStep, Real length) {
+void gaussKronrodRule(Eval& eval, RayState<Real>& s, Real a, Real b, const JitteredGrid<Real>& grid,
+                      Real tol, Real minStep, Real length) {
   const GaussKronrod15& gk = gaussKronrod15();
   std::vector<std::pair<Real, Real>> stack;
   Real t = a;

@@ -119,13 +119,11 @@ void runMethod(Method method, Eval& ev, RayState<Real>& state, Real a, Real b,
       return fixedOther(SimpsonStepper<Real>());
     case Method::kAdaptiveSimpson:
       return pieces([&](Real pa, Real pb) {
-        adaptiveSimpsonRule(ev, state, pa, pb, grid, set.tolerance,
-                            set.minStep, length);
+        adaptiveSimpsonRule(ev, state, pa, pb, grid, set.tolerance, set.minStep, length);
       });
     case Method::kGaussKronrod:
       return pieces([&](Real pa, Real pb) {
-        gaussKronrodRule(ev, state, pa, pb, grid, set.tolerance, set.minStep,
-                         length);
+        gaussKronrodRule(ev, state, pa, pb, grid, set.tolerance, set.minStep, length);
       });
     case Method::kMonteCarlo: {
       Rng rng(set.seed, set.stream);
