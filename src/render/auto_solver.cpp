@@ -101,15 +101,28 @@ AutoSolver::AutoSolver(const Scene& scene, const MediaSet& media,
   for (const Medium& m : media.media()) featureSize_.push_back(featureSize(m));
 }
 
-bool AutoSolver::homogeneousOn(const Ray& ray, float t0, float t1) const {
+template <class F>
+void AutoSolver::forEachMediumOn(const Ray& ray, float t0, float t1, F&& f) const {
   thread_local std::vector<std::pair<float, float>> spans;
   for (size_t i = 0; i < media_.size(); ++i) {
-    if (media_[i].homogeneous()) continue;
     spans.clear();
     media_[i].intervals(ray, t0, t1, spans);
-    if (!spans.empty()) return false;
+    if (!spans.empty()) f(i);
   }
-  return true;
+}
+
+bool AutoSolver::homogeneousOn(const Ray& ray, float t0, float t1) const {
+  bool homogeneous = true;
+  forEachMediumOn(ray, t0, t1, [&](size_t i) { homogeneous &= media_[i].homogeneous(); });
+  return homogeneous;
+}
+
+bool AutoSolver::sourceMayVaryOn(const Ray& ray, float t0, float t1) const {
+  bool scatters = false;
+  forEachMediumOn(ray, t0, t1, [&](size_t i) {
+    scatters |= !isBlack(media_[i].sigmaS) || media_[i].emissionGrid != nullptr;
+  });
+  return scatters;
 }
 
 void AutoSolver::addMediumFaces(const Ray& ray, float t0, float t1,
@@ -146,27 +159,17 @@ float AutoSolver::addLightStructure(const Ray& ray, float t0, float t1,
 }
 
 float AutoSolver::smallestExtinctionOn(const Ray& ray, float t0, float t1) const {
-  thread_local std::vector<std::pair<float, float>> spans;
   float sigma = kInf;
-  for (const Medium& m : media_.media()) {
-    spans.clear();
-    m.intervals(ray, t0, t1, spans);
-    if (spans.empty()) continue;
-    const RGB t = m.homogeneous() ? m.majorant() : RGB(0.0f);
+  forEachMediumOn(ray, t0, t1, [&](size_t i) {
+    const RGB t = media_[i].homogeneous() ? media_[i].majorant() : RGB(0.0f);
     sigma = std::min({sigma, t.x, t.y, t.z});
-  }
+  });
   return std::isinf(sigma) ? 0.0f : sigma;
 }
 
 float AutoSolver::heterogeneousFeatureSize(const Ray& ray, float t0, float t1) const {
-  thread_local std::vector<std::pair<float, float>> spans;
   float size = kInf;
-  for (size_t i = 0; i < media_.size(); ++i) {
-    if (featureSize_[i] >= size) continue;
-    spans.clear();
-    media_[i].intervals(ray, t0, t1, spans);
-    if (!spans.empty()) size = featureSize_[i];
-  }
+  forEachMediumOn(ray, t0, t1, [&](size_t i) { size = std::min(size, featureSize_[i]); });
   return size;
 }
 
@@ -179,6 +182,15 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
   const float beamCap = addLightStructure(ray, t0, t1, s.breakpoints);
   std::sort(s.breakpoints.begin(), s.breakpoints.end());
   plan.end = t1;
+  if (homogeneousOn(ray, t0, t1) && !sourceMayVaryOn(ray, t0, t1)) {
+    // Absorption and emission only: sigma_t and the source are constant between the box
+    // faces, and left-point marching integrates a constant piece exactly,
+    // Q += T J (1 - exp(-sigma h)) / sigma: one step per piece.
+    plan.method = rte::Method::kRectangle;
+    s.step = t1 - t0;
+    s.jitter = 0.0f;
+    return plan;
+  }
   if (homogeneousOn(ray, t0, t1)) {
     plan.method = kHomogeneousMethod;
     // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.

@@ -1,5 +1,8 @@
 #pragma once
 // `--solver auto`: the method and settings each ray segment needs (docs/solvers.md, "auto").
+//   - Homogeneous media that only absorb and emit: coefficients and source are constant
+//     between box faces, so one exact exponential step per piece (left-point marching
+//     integrates a constant piece exactly).
 //   - Every medium on the segment homogeneous: sigma_t is constant between the media's
 //     box faces, so only the source varies. Adaptive Gauss-Kronrod on the integral form,
 //     with the equiangular change of variable around the brightest point or spot light
@@ -59,7 +62,13 @@ class AutoSolver {
     float intensity;  // max channel, for choosing the brightest one seen from a ray
   };
 
+  // Calls f(i) for each medium i that may be non-zero on [t0, t1].
+  template <class F>
+  void forEachMediumOn(const Ray& ray, float t0, float t1, F&& f) const;
   bool homogeneousOn(const Ray& ray, float t0, float t1) const;
+  // Whether anything on [t0, t1] scatters light (or emits through a grid): else the
+  // source of a homogeneous segment is constant between box faces.
+  bool sourceMayVaryOn(const Ray& ray, float t0, float t1) const;
   // The smallest sigma_t (any channel) of the media on the segment; every point of a
   // merged medium interval lies in at least one of them.
   float smallestExtinctionOn(const Ray& ray, float t0, float t1) const;

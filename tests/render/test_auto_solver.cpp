@@ -97,6 +97,19 @@ TEST(AutoSolverPlan, HomogeneousMediumWithoutPointLightsStopsWhenOpaque) {
   EXPECT_NEAR(plan.end, 16.2f / 50.0f, 1e-5f);  // T < 1e-7 beyond
 }
 
+TEST(AutoSolverPlan, AbsorbingEmittingMediaGetOneExactStepPerPiece) {
+  const Planner p(R"({
+    "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0]},
+    "lights": [{"type": "point", "position": [2, 0.5, 0], "intensity": 10}],
+    "media": [{"type": "homogeneous", "min": [0, -1, -1], "max": [2, 1, 1], "sigma_a": 0.5, "emission": 2},
+              {"type": "homogeneous", "min": [1, -1, -1], "max": [3, 1, 1], "sigma_a": 1, "emission": 1}]})");
+  const SegmentPlan plan = p.solver->radiance(rayFrom({-1, 0, 0}, {1, 0, 0}), 1.0f, 4.0f, 0.7f);
+  EXPECT_EQ(plan.method, rte::Method::kRectangle);
+  EXPECT_FLOAT_EQ(plan.settings.step, 3.0f);
+  EXPECT_EQ(plan.settings.jitter, 0.0f);
+  EXPECT_EQ(plan.settings.breakpoints, (std::vector<float>{2.0f, 3.0f}));
+}
+
 TEST(AutoSolverPlan, HeterogeneousMediumUsesDopri5CappedByTheFeatureSize) {
   const Planner p(R"({
     "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0]},
@@ -184,6 +197,24 @@ TEST(AutoSolverRegression, PointLightClosedFormBeatsRk4AtTheSameCost) {
   const Pixel rk4 = renderPixel(kPointLight, "rk4", step);
   ASSERT_LE(rk4.mediumEvals, autoPx.mediumEvals + 6);
   EXPECT_GT(std::abs(rk4.value.x - converged), 10.0 * std::abs(autoPx.value.x - converged));
+}
+
+// Emission and absorption only, in two overlapping boxes: three constant pieces, each
+// integrated in closed form, L = sum_i T_i J_i / sigma_i (1 - exp(-sigma_i d_i)).
+TEST(AutoSolverRegression, AbsorbingEmittingPiecesInClosedForm) {
+  const std::string scene = R"({
+    "camera": {"position": [-1, 0, 0], "look_at": [1, 0, 0], "vfov_deg": 1e-6, "width": 1, "height": 1},
+    "media": [{"type": "homogeneous", "min": [0, -1, -1], "max": [2, 1, 1], "sigma_a": 0.5, "emission": 2},
+              {"type": "homogeneous", "min": [1, -1, -1], "max": [3, 1, 1], "sigma_a": 1, "emission": 1}]})";
+  const double sigma[3] = {0.5, 1.5, 1.0}, source[3] = {1.0, 2.0, 1.0};
+  double expected = 0.0, t = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    expected += t * source[i] / sigma[i] * (1.0 - std::exp(-sigma[i]));
+    t *= std::exp(-sigma[i]);
+  }
+  const Pixel px = renderPixel(scene, "auto");
+  EXPECT_NEAR(px.value.x, expected, 1e-6 * expected);
+  EXPECT_LE(px.mediumEvals, 6u);  // one step, at most two samples, per piece
 }
 
 // A thin spot beam (0.5 degrees) crossing the camera ray: adaptive steps at a loose
