@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "src/render/auto_solver.h"
 #include "render/render_pixel.h"
+#include "src/render/auto_solver.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 #include "volume/rte/change_of_variable.h"
