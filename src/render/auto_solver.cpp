@@ -182,7 +182,8 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
   const float beamCap = addLightStructure(ray, t0, t1, s.breakpoints);
   std::sort(s.breakpoints.begin(), s.breakpoints.end());
   plan.end = t1;
-  if (homogeneousOn(ray, t0, t1) && !sourceMayVaryOn(ray, t0, t1)) {
+  const bool homogeneous = homogeneousOn(ray, t0, t1);
+  if (homogeneous && !sourceMayVaryOn(ray, t0, t1)) {
     // Absorption and emission only: sigma_t and the source are constant between the box
     // faces, and left-point marching integrates a constant piece exactly,
     // Q += T J (1 - exp(-sigma h)) / sigma: one step per piece.
@@ -191,7 +192,7 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     s.jitter = 0.0f;
     return plan;
   }
-  if (homogeneousOn(ray, t0, t1)) {
+  if (homogeneous) {
     plan.method = kHomogeneousMethod;
     // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.
     const float sigmaMin = smallestExtinctionOn(ray, t0, t1);
@@ -218,9 +219,9 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     // constant: Gauss-Kronrod in t (thick panels split) costs less than under the distance
     // map, whose mapped sigma_t ~ 1 / (1 - s) its node interpolant represents poorly.
     const float densest = s.sampling == rte::Sampling::kEquiangular ? 1.0f / s.h : 1.0f;
-    // First panels equal in the new variable, none longer than `cap` (in t) where the map
-    // is densest: they grow where attenuation or distance to the light makes the integrand
-    // small, and Gauss-Kronrod's error estimate splits them where the tolerance asks.
+    // First panels equal in the equiangular variable (in t without a point light), none
+    // longer than `cap` where that variable is densest: they grow with the distance to the
+    // light, and Gauss-Kronrod's error estimate splits them where the tolerance asks.
     const auto map = rte::VariableChange<float>::make(s.sampling, t0, s.sigmaRef, s.delta, s.h);
     const float panels = std::ceil((map.toS(t1) - map.toS(t0)) / (densest * cap) - 1e-4f);
     s.step = (t1 - t0) / std::clamp(panels, 1.0f, std::ceil((t1 - t0) / cap));
