@@ -223,6 +223,14 @@ int runSweep(const SweepFlags& f) {
                      "the sweep compares solvers: use direct, pcb or pcb-surfels");
   if (!fs::is_directory(f.outDir))
     throw InputError(f.outDir, "--output", "is not an existing directory");
+  auto requirePositive = [&](const std::vector<float>& values, const std::string& flag) {
+    for (float v : values)
+      if (!(v > 0.0f) || !std::isfinite(v))
+        throw InputError(f.scene, flag, "values must be finite and > 0");
+  };
+  requirePositive(f.stepScales, "--step-scales");
+  requirePositive(f.tolerances, "--tols");
+  requirePositive({f.referenceStepScale}, "--reference-step-scale");
   for (const std::string& m : f.methods)
     if (m == "mc" && f.mcSpp.empty()) throw InputError(f.scene, "--methods", "mc needs --mc-spp");
   const std::vector<SweepPoint> points = plan(f, scene);

@@ -109,6 +109,7 @@ void expectSweepFailure(const std::string& args, const std::string& field) {
 }
 
 TEST(SweepCli, UnknownMethod) { expectSweepFailure("--methods rk4,rk5", "--methods"); }
+TEST(SweepCli, NotANumberTolerance) { expectSweepFailure("--tols 0.01,nan", "--tols"); }
 TEST(SweepCli, MonteCarloWithoutSpp) { expectSweepFailure("--methods mc", "--mc-spp"); }
 TEST(SweepCli, ReferenceOfAnotherSize) {
   const auto dir = test::tempDir();
