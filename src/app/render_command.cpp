@@ -70,10 +70,7 @@ void applyOverrides(const RenderFlags& f, Scene& scene) {
 
 // The profiling lines of the point-based modes: phase times, element counts, memory.
 void printPointCloudSummary(const Report& report) {
-  auto count = [&](const char* key) {
-    auto it = report.counts.find(key);
-    return it == report.counts.end() ? uint64_t{0} : it->second;
-  };
+  auto count = [&](const char* key) { return report.count(key); };
   auto megabytes = [&](const char* key) {
     auto it = report.memory.find(key);
     return it == report.memory.end() ? 0.0 : static_cast<double>(it->second) * 1e-6;
@@ -100,10 +97,8 @@ void printPointCloudSummary(const Report& report) {
 void printSummary(const Scene& scene, const Report& report, const std::string& output) {
   const double seconds = report.times.at("total");
   uint64_t rays = 0;
-  for (const char* key : {"camera_rays", "shadow_rays", "gather_rays", "path_rays"}) {
-    auto it = report.counts.find(key);
-    if (it != report.counts.end()) rays += it->second;
-  }
+  for (const char* key : {"camera_rays", "shadow_rays", "gather_rays", "path_rays"})
+    rays += report.count(key);
   std::fprintf(stderr, "lvox: %s %dx%d %s spp, %s mode: %.2f s, %.2f Mrays/s -> %s\n",
                std::filesystem::path(scene.path).filename().c_str(), scene.camera.width,
                scene.camera.height, report.settings.at("spp").c_str(), scene.render.mode.c_str(),
@@ -111,10 +106,9 @@ void printSummary(const Scene& scene, const Report& report, const std::string& o
                output.c_str());
   if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels")
     printPointCloudSummary(report);
-  auto invalid = report.counts.find("invalid_samples");
-  if (invalid != report.counts.end() && invalid->second > 0)
+  if (const uint64_t invalid = report.count("invalid_samples"); invalid > 0)
     std::fprintf(stderr, "lvox: warning: %llu invalid (NaN/Inf/negative) samples were zeroed\n",
-                 static_cast<unsigned long long>(invalid->second));
+                 static_cast<unsigned long long>(invalid));
   for (const std::string& w : report.warnings)
     std::fprintf(stderr, "lvox: warning: %s\n", w.c_str());
 }

@@ -69,11 +69,6 @@ struct SweepRow {
   bool paretoTime = false, paretoEvals = false;
 };
 
-uint64_t countOf(const Report& r, const char* key) {
-  auto it = r.counts.find(key);
-  return it == r.counts.end() ? 0 : it->second;
-}
-
 std::vector<SweepPoint> plan(const SweepFlags& f, const Scene& scene) {
   std::vector<SweepPoint> points;
   for (const std::string& m : f.methods) {
@@ -112,12 +107,12 @@ SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& refer
   SweepRow row;
   row.point = p;
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  row.mediumEvals = countOf(report, "medium_evals") + countOf(report, "cache_medium_evals");
-  row.steps = countOf(report, "solver_steps");
-  row.rejected = countOf(report, "rejected_steps");
-  row.stabilityEvents = countOf(report, "stability_events");
-  row.capped = countOf(report, "capped_segments");
-  row.invalid = countOf(report, "invalid_samples");
+  row.mediumEvals = report.count("medium_evals") + report.count("cache_medium_evals");
+  row.steps = report.count("solver_steps");
+  row.rejected = report.count("rejected_steps");
+  row.stabilityEvents = report.count("stability_events");
+  row.capped = report.count("capped_segments");
+  row.invalid = report.count("invalid_samples");
   row.error = compareImages(image, reference, p.method, "reference");
   return row;
 }

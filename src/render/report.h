@@ -18,6 +18,11 @@ struct Report {
   std::vector<std::string> warnings;
 
   void add(const std::string& count, uint64_t n) { counts[count] += n; }
+  // A count, 0 when nothing was counted under that name.
+  uint64_t count(const std::string& name) const {
+    auto it = counts.find(name);
+    return it == counts.end() ? 0 : it->second;
+  }
   nlohmann::json toJson() const;
 };
 
