@@ -101,28 +101,24 @@ AutoSolver::AutoSolver(const Scene& scene, const MediaSet& media,
   for (const Medium& m : media.media()) featureSize_.push_back(featureSize(m));
 }
 
-template <class F>
-void AutoSolver::forEachMediumOn(const Ray& ray, float t0, float t1, F&& f) const {
+AutoSolver::SegmentMedia AutoSolver::mediaOn(const Ray& ray, float t0, float t1) const {
   thread_local std::vector<std::pair<float, float>> spans;
+  SegmentMedia on;
+  float sigma = kInf;
   for (size_t i = 0; i < media_.size(); ++i) {
     spans.clear();
     media_[i].intervals(ray, t0, t1, spans);
-    if (!spans.empty()) f(i);
+    if (spans.empty()) continue;
+    const Medium& m = media_[i];
+    on.homogeneous = on.homogeneous && m.homogeneous();
+    on.sourceMayVary = on.sourceMayVary || !isBlack(m.sigmaS) || m.emissionGrid != nullptr;
+    const RGB t = m.homogeneous() ? m.majorant() : RGB(0.0f);
+    sigma = std::min({sigma, t.x, t.y, t.z});
+    on.featureSize = std::min(on.featureSize, featureSize_[i]);
   }
-}
-
-bool AutoSolver::homogeneousOn(const Ray& ray, float t0, float t1) const {
-  bool homogeneous = true;
-  forEachMediumOn(ray, t0, t1, [&](size_t i) { homogeneous &= media_[i].homogeneous(); });
-  return homogeneous;
-}
-
-bool AutoSolver::sourceMayVaryOn(const Ray& ray, float t0, float t1) const {
-  bool scatters = false;
-  forEachMediumOn(ray, t0, t1, [&](size_t i) {
-    scatters |= !isBlack(media_[i].sigmaS) || media_[i].emissionGrid != nullptr;
-  });
-  return scatters;
+  // Every point of a merged medium interval lies in at least one of these media.
+  on.smallestExtinction = std::isinf(sigma) ? 0.0f : sigma;
+  return on;
 }
 
 void AutoSolver::addMediumFaces(const Ray& ray, float t0, float t1,
@@ -158,21 +154,6 @@ float AutoSolver::addLightStructure(const Ray& ray, float t0, float t1,
   return cap;
 }
 
-float AutoSolver::smallestExtinctionOn(const Ray& ray, float t0, float t1) const {
-  float sigma = kInf;
-  forEachMediumOn(ray, t0, t1, [&](size_t i) {
-    const RGB t = media_[i].homogeneous() ? media_[i].majorant() : RGB(0.0f);
-    sigma = std::min({sigma, t.x, t.y, t.z});
-  });
-  return std::isinf(sigma) ? 0.0f : sigma;
-}
-
-float AutoSolver::heterogeneousFeatureSize(const Ray& ray, float t0, float t1) const {
-  float size = kInf;
-  forEachMediumOn(ray, t0, t1, [&](size_t i) { size = std::min(size, featureSize_[i]); });
-  return size;
-}
-
 SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitter) const {
   SegmentPlan plan;
   rte::SolveSettings<float>& s = plan.settings;
@@ -182,8 +163,8 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
   const float beamCap = addLightStructure(ray, t0, t1, s.breakpoints);
   std::sort(s.breakpoints.begin(), s.breakpoints.end());
   plan.end = t1;
-  const bool homogeneous = homogeneousOn(ray, t0, t1);
-  if (homogeneous && !sourceMayVaryOn(ray, t0, t1)) {
+  const SegmentMedia on = mediaOn(ray, t0, t1);
+  if (on.homogeneous && !on.sourceMayVary) {
     // Absorption and emission only: sigma_t and the source are constant between the box
     // faces, and left-point marching integrates a constant piece exactly,
     // Q += T J (1 - exp(-sigma h)) / sigma: one step per piece.
@@ -192,11 +173,11 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     s.jitter = 0.0f;
     return plan;
   }
-  if (homogeneous) {
+  if (on.homogeneous) {
     plan.method = kHomogeneousMethod;
     // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.
-    const float sigmaMin = smallestExtinctionOn(ray, t0, t1);
-    if (sigmaMin > 0.0f) t1 = plan.end = std::min(t1, t0 + kOpaqueDepth / sigmaMin);
+    if (on.smallestExtinction > 0.0f)
+      t1 = plan.end = std::min(t1, t0 + kOpaqueDepth / on.smallestExtinction);
     // No two evaluations further apart than the scene's step (or a quarter beam) where the
     // map is densest: a panel may span that gap over Kronrod's widest node gap.
     const float cap = std::min({base_.step, base_.maxStep, beamCap}) / kKronrodLargestGap;
@@ -228,8 +209,7 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     return plan;
   }
   plan.method = kHeterogeneousMethod;
-  s.maxStep =
-      std::min({base_.maxStep, beamCap, heterogeneousFeatureSize(ray, t0, t1) / kLargestNodeGap});
+  s.maxStep = std::min({base_.maxStep, beamCap, on.featureSize / kLargestNodeGap});
   s.maxStep = std::max(s.maxStep, s.minStep);
   s.step = std::min(base_.step, s.maxStep);
   return plan;
@@ -245,7 +225,7 @@ SegmentPlan AutoSolver::transmittance(const Ray& ray, float t0, float t1) const 
   // a tolerance 10x tighter costs 10^(1/4) more steps.
   const float scaled = base_.step * std::pow(base_.tolerance / kReferenceTolerance, 0.25f);
   s.step = std::max(s.minStep, std::min({scaled, base_.maxStep,
-                                         heterogeneousFeatureSize(ray, t0, t1) / kLargestNodeGap}));
+                                         mediaOn(ray, t0, t1).featureSize / kLargestNodeGap}));
   return plan;
 }
 

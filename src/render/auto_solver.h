@@ -62,21 +62,18 @@ class AutoSolver {
     float intensity;  // max channel, for choosing the brightest one seen from a ray
   };
 
-  // Calls f(i) for each medium i that may be non-zero on [t0, t1].
-  template <class F>
-  void forEachMediumOn(const Ray& ray, float t0, float t1, F&& f) const;
-  bool homogeneousOn(const Ray& ray, float t0, float t1) const;
-  // Whether anything on [t0, t1] scatters light (or emits through a grid): else the
-  // source of a homogeneous segment is constant between box faces.
-  bool sourceMayVaryOn(const Ray& ray, float t0, float t1) const;
-  // The smallest sigma_t (any channel) of the media on the segment; every point of a
-  // merged medium interval lies in at least one of them.
-  float smallestExtinctionOn(const Ray& ray, float t0, float t1) const;
+  // What the media that may be non-zero on [t0, t1] are, gathered in one pass.
+  struct SegmentMedia {
+    bool homogeneous = true;
+    bool sourceMayVary = false;    // something scatters (or emits through a grid)
+    float smallestExtinction = 0;  // min sigma_t of homogeneous media; 0 if any other
+    float featureSize = kInf;      // narrowest density bump
+  };
+  SegmentMedia mediaOn(const Ray& ray, float t0, float t1) const;
   // Breakpoints in (t0, t1): media box faces and spot cone crossings; and the cap on the
   // step from the spot beams the segment crosses (infinity when it crosses none).
   float addLightStructure(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
   void addMediumFaces(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
-  float heterogeneousFeatureSize(const Ray& ray, float t0, float t1) const;
 
   const MediaSet& media_;
   rte::SolveSettings<float> base_;
