@@ -6,12 +6,9 @@ namespace lvox {
 
 RGB gatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
               TraversalScratch& scratch) {
-  GatherRayVisitor visitor{cloud, options.minTransmittance};
-  traverse(cloud, ray, visitor,
-           TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
-  if (!visitor.opaqueHit && maxComponent(visitor.transmittance) >= options.minTransmittance)
-    visitor.radiance += visitor.transmittance * options.background;
-  return visitor.radiance;
+  RadianceSink sink{cloud, options.background};
+  traceGatherRay(cloud, ray, options, 1.0f, scratch, sink);
+  return sink.radiance;
 }
 
 void strataGrid(int n, int& rows, int& cols) {
@@ -23,19 +20,9 @@ void strataGrid(int n, int& rows, int& cols) {
 
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng, TraversalScratch& scratch) {
-  int rows, cols;
-  strataGrid(options.samples, rows, cols);
-  const Frame frame(n);
-  RGB sum(0.0f);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
-      const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
-      const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
-      sum += gatherRay(cloud, ray, options, scratch);
-    }
-  // Cosine-weighted pdf cos/pi: E = integral L cos dw = pi * mean(L).
-  return sum * (kPi / static_cast<float>(rows * cols));
+  RadianceSink sink{cloud, options.background};
+  gatherIrradianceInto(cloud, p, n, options, rng, scratch, sink);
+  return sink.radiance;
 }
 
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,

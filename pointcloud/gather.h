@@ -24,43 +24,87 @@ struct GatherOptions {
   float minTransmittance = 1e-4f;
 };
 
-// Radiance arriving at ray.origin from direction -ray.dir through the point cloud.
-struct GatherRayVisitor {
+// Follows one gather ray through the elements the traversal visits and hands the sink
+// each element's weight: the fraction of the element's radiance that arrives at the
+// ray's origin (times the ray's quadrature weight `scale`). The weights depend on the
+// geometry and the media only, never on the cached light, so a gather is linear in the
+// cloud's radiance (GatherOperator records them once for all interreflection passes).
+// Sink interface:
+//   surfel(i, front, w), surfelCluster(node, front, w), lvoxel(i, w),
+//   lvoxelCluster(node, w), addBackground(w)
+template <class Sink>
+struct GatherRayWeights {
   const PointCloud& cloud;
+  Sink& sink;
+  float scale = 1.0f;
   float minTransmittance = 1e-4f;
-  RGB radiance{0, 0, 0};
   RGB transmittance{1, 1, 1};
   bool opaqueHit = false;
 
   void surfel(uint32_t i, float, bool front) {
-    const SurfelSet& s = cloud.surfels();
-    radiance += transmittance * (front ? s.radianceFront[i] : s.radianceBack[i]);
+    sink.surfel(i, front, transmittance * scale);
     opaqueHit = true;
   }
   bool surfelCluster(uint32_t n, float, bool front, float coverage) {
-    const SurfelCluster& c = cloud.surfelClusters()[n];
-    radiance += transmittance * coverage * (front ? c.radianceFront : c.radianceBack);
+    sink.surfelCluster(n, front, transmittance * (coverage * scale));
     transmittance *= 1.0f - coverage;
     return maxComponent(transmittance) >= minTransmittance;
   }
   bool lvoxel(uint32_t i, float t0, float t1) {
-    const LvoxelSet& l = cloud.lvoxels();
-    return attenuate(l.sigmaT(i), l.sourceRadiance(i), t1 - t0);
+    const RGB w = attenuate(cloud.lvoxels().sigmaT(i), t1 - t0);
+    sink.lvoxel(i, w);
+    return maxComponent(transmittance) >= minTransmittance;
   }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {
-    const LvoxelCluster& c = cloud.lvoxelClusters()[n];
-    return attenuate(c.sigmaT, c.sourceRadiance, t1 - t0);
-  }
-  bool attenuate(const RGB& sigmaT, const RGB& source, float chord) {
-    if (!(chord > 0.0f)) return true;
-    const RGB tr = exp(-sigmaT * chord);
-    radiance += transmittance * source * (RGB(1.0f) - tr);
-    transmittance *= tr;
+    const RGB w = attenuate(cloud.lvoxelClusters()[n].sigmaT, t1 - t0);
+    sink.lvoxelCluster(n, w);
     return maxComponent(transmittance) >= minTransmittance;
+  }
+  // A homogeneous cube crossed over `chord` sends T (1 - exp(-sigma_t chord)) of its
+  // source radiance; then T *= exp(-sigma_t chord).
+  RGB attenuate(const RGB& sigmaT, float chord) {
+    if (!(chord > 0.0f)) return RGB(0.0f);
+    const RGB tr = exp(-sigmaT * chord);
+    const RGB w = transmittance * (RGB(1.0f) - tr) * scale;
+    transmittance *= tr;
+    return w;
   }
 };
 
-// One gather ray: its radiance (background added behind unoccluded media).
+// Sums the weighted radiance of the cloud as it stands: the gather's radiance.
+struct RadianceSink {
+  const PointCloud& cloud;
+  RGB background{0, 0, 0};
+  RGB radiance{0, 0, 0};
+
+  void surfel(uint32_t i, bool front, const RGB& w) {
+    const SurfelSet& s = cloud.surfels();
+    radiance += w * (front ? s.radianceFront[i] : s.radianceBack[i]);
+  }
+  void surfelCluster(uint32_t n, bool front, const RGB& w) {
+    const SurfelCluster& c = cloud.surfelClusters()[n];
+    radiance += w * (front ? c.radianceFront : c.radianceBack);
+  }
+  void lvoxel(uint32_t i, const RGB& w) { radiance += w * cloud.lvoxels().sourceRadiance(i); }
+  void lvoxelCluster(uint32_t n, const RGB& w) {
+    radiance += w * cloud.lvoxelClusters()[n].sourceRadiance;
+  }
+  void addBackground(const RGB& w) { radiance += w * background; }
+};
+
+// One gather ray, weighted by `scale`, into the sink; the background is added behind
+// unoccluded media.
+template <class Sink>
+void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
+                    float scale, TraversalScratch& scratch, Sink& sink) {
+  GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance};
+  traverse(cloud, ray, weights,
+           TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
+  if (!weights.opaqueHit && maxComponent(weights.transmittance) >= options.minTransmittance)
+    sink.addBackground(weights.transmittance * scale);
+}
+
+// One gather ray: its radiance.
 RGB gatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
               TraversalScratch& scratch);
 
@@ -68,7 +112,25 @@ RGB gatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& opti
 void strataGrid(int n, int& rows, int& cols);
 
 // Irradiance E [W/m^2] at p with unit normal n: E = pi / N * sum L_i over N stratified
-// cosine-weighted directions. Outgoing Lambertian radiance is albedo * E / pi.
+// cosine-weighted directions (cosine-weighted pdf cos/pi: E = integral L cos dw =
+// pi * mean(L)), into the sink. Outgoing Lambertian radiance is albedo * E / pi.
+template <class Sink>
+void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
+                          const GatherOptions& options, Rng& rng, TraversalScratch& scratch,
+                          Sink& sink) {
+  int rows, cols;
+  strataGrid(options.samples, rows, cols);
+  const Frame frame(n);
+  const float scale = kPi / static_cast<float>(rows * cols);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
+      const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
+      const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
+      traceGatherRay(cloud, ray, options, scale, scratch, sink);
+    }
+}
+
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng, TraversalScratch& scratch);
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
@@ -79,12 +141,13 @@ RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
 // Directions are stratified uniform on the sphere and weighted by phase / pdf, which
 // works for any phase function (noisy for strongly peaked ones). `phase(wo, wi)` gets
 // wo pointing from p to the viewer and wi pointing from p to where the light comes from.
-template <class Phase>
-RGB gatherInScatter(const PointCloud& cloud, const Vec3& p, const Vec3& wo, const Phase& phase,
-                    const GatherOptions& options, Rng& rng, TraversalScratch& scratch) {
+template <class Phase, class Sink>
+void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo, const Phase& phase,
+                         const GatherOptions& options, Rng& rng, TraversalScratch& scratch,
+                         Sink& sink) {
   int rows, cols;
   strataGrid(options.samples, rows, cols);
-  RGB sum(0.0f);
+  const float perRay = 1.0f / static_cast<float>(rows * cols);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
@@ -92,10 +155,17 @@ RGB gatherInScatter(const PointCloud& cloud, const Vec3& p, const Vec3& wo, cons
       const Vec3 wi = uniformSphere(u1, u2);
       const float weight = static_cast<float>(phase(wo, wi)) / kUniformSpherePdf;
       if (!(weight > 0.0f)) continue;
-      Ray ray{p, wi, 0.0f, kInf};
-      sum += gatherRay(cloud, ray, options, scratch) * weight;
+      const Ray ray{p, wi, 0.0f, kInf};
+      traceGatherRay(cloud, ray, options, weight * perRay, scratch, sink);
     }
-  return sum / static_cast<float>(rows * cols);
+}
+
+template <class Phase>
+RGB gatherInScatter(const PointCloud& cloud, const Vec3& p, const Vec3& wo, const Phase& phase,
+                    const GatherOptions& options, Rng& rng, TraversalScratch& scratch) {
+  RadianceSink sink{cloud, options.background};
+  gatherInScatterInto(cloud, p, wo, phase, options, rng, scratch, sink);
+  return sink.radiance;
 }
 
 template <class Phase>

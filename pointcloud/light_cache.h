@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pointcloud/gather.h"
+#include "pointcloud/gather_operator.h"
 
 namespace lvox {
 
@@ -77,45 +78,79 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
   }
 }
 
+struct InterreflectionStats {
+  size_t gatherRays = 0;     // traced once
+  size_t entries = 0;        // weights kept (GatherOperator)
+  size_t operatorBytes = 0;
+  // sum |L_last - L_previous| / sum |L_last| over surfels' radiance and lvoxels' in-scatter:
+  // what the last pass still changed, i.e. roughly the share of light still missing.
+  double lastPassChange = 0.0;
+};
+
 // Interreflection: `passes` Jacobi passes over the whole cloud. Each pass gathers, from
 // the cloud as it stands, the irradiance at both sides of every surfel (its radiance
 // becomes direct + albedo E / pi) and the in-scattered radiance at every lvoxel (its
 // multiScatter), then refreshes the aggregates: pass n adds the light that bounced n
 // more times, between surfaces and media alike. The direct radiance is the surfels'
-// radiance on entry (call cacheDirectLight first). Few rays per surfel suffice when the
-// camera's final gather averages over many surfels; the noise of each is then averaged
-// out.
+// radiance on entry (call cacheDirectLight first).
+//
+// The gather rays are traced once, into a GatherOperator, and every pass applies it: the
+// same rays serve every bounce. Few rays per surfel suffice when the camera's final
+// gather averages over many surfels; the noise of each is then averaged out.
 template <class Phase>
-void cacheInterreflection(PointCloud& cloud, const Phase& phase, const GatherOptions& surfelOptions,
-                          const GatherOptions& lvoxelOptions, int passes, uint64_t seed) {
+InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
+                                          const GatherOptions& surfelOptions,
+                                          const GatherOptions& lvoxelOptions, int passes,
+                                          uint64_t seed) {
+  InterreflectionStats stats;
+  if (passes <= 0) return stats;
   SurfelSet& s = cloud.mutableSurfels();
   LvoxelSet& l = cloud.mutableLvoxels();
+  const size_t n = s.size(), m = l.size();
+  // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
+  const GatherOperator gathers(
+      cloud, 2 * n + m, [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
+        if (row < 2 * n) {
+          const size_t i = row % n;
+          const bool front = row < n;
+          Rng rng(seed ^ 0x5f1ce5u, (static_cast<uint64_t>(front ? 0 : 1) << 40) ^ i);
+          gatherIrradianceInto(cloud, s.position[i], front ? s.normal[i] : -s.normal[i],
+                               surfelOptions, rng, scratch, recorder);
+        } else {
+          const size_t i = row - 2 * n;
+          Rng rng(seed, i);
+          // Isotropic cache: the viewer direction is irrelevant for isotropic phases and
+          // is fixed to +z otherwise (the cache stores no directional dependence).
+          gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
+                              scratch, recorder);
+        }
+      });
+  stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
+                     m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
+  stats.entries = gathers.entries();
+  stats.operatorBytes = gathers.memoryBytes();
+
   const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
-  std::vector<RGB> front(s.size()), back(s.size()), multi(l.size());
+  std::vector<RGB> gathered;
   for (int pass = 0; pass < passes; ++pass) {
-    const uint64_t passKey = static_cast<uint64_t>(pass) << 40;
-    tbb::parallel_for(size_t(0), s.size(), [&](size_t i) {
-      Rng rng(seed ^ 0x5f1ce5u, passKey ^ i);
-      TraversalScratch scratch;
-      const RGB ef =
-          gatherIrradiance(cloud, s.position[i], s.normal[i], surfelOptions, rng, scratch);
-      const RGB eb =
-          gatherIrradiance(cloud, s.position[i], -s.normal[i], surfelOptions, rng, scratch);
-      front[i] = directFront[i] + s.albedo[i] * (isFinite(ef) ? ef : RGB(0.0f)) * kInvPi;
-      back[i] = directBack[i] + s.albedo[i] * (isFinite(eb) ? eb : RGB(0.0f)) * kInvPi;
-    });
-    tbb::parallel_for(size_t(0), l.size(), [&](size_t i) {
-      Rng rng(seed, passKey ^ i);
-      TraversalScratch scratch;
-      const RGB in =
-          gatherInScatter(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng, scratch);
-      multi[i] = isFinite(in) ? in : RGB(0.0f);
-    });
-    s.radianceFront = front;
-    s.radianceBack = back;
-    l.multiScatter = multi;
+    gathers.apply(gathers.columns().values(cloud, surfelOptions.background), gathered);
+    double change = 0.0, total = 0.0;
+    auto update = [&](RGB& value, const RGB& next) {
+      const RGB finite = isFinite(next) ? next : RGB(0.0f);
+      const RGB d = finite - value;
+      change += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+      total += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
+      value = finite;
+    };
+    for (size_t i = 0; i < n; ++i) {
+      update(s.radianceFront[i], directFront[i] + s.albedo[i] * gathered[i] * kInvPi);
+      update(s.radianceBack[i], directBack[i] + s.albedo[i] * gathered[n + i] * kInvPi);
+    }
+    for (size_t i = 0; i < m; ++i) update(l.multiScatter[i], gathered[2 * n + i]);
+    stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();
   }
+  return stats;
 }
 
 }  // namespace lvox

@@ -2,8 +2,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "src/core/error.h"
 #include "src/core/rng.h"
@@ -52,20 +55,64 @@ bool inside2d(float px, float py, const float* x, const float* y) {
   return true;
 }
 
+bool usesLattice(const TriangleInfo& t, float spacing) {
+  return t.area / (spacing * spacing) >= kLatticeMinSurfels;
+}
+
+// Twice the signed area of (a, b, p): > 0 when p is left of a -> b.
+float edgeFunction(float ax, float ay, float bx, float by, float px, float py) {
+  return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+}
+
+// Closest point to (px, py) on the segment a -> b.
+void closestOnSegment(float ax, float ay, float bx, float by, float px, float py, float& qx,
+                      float& qy) {
+  const float dx = bx - ax, dy = by - ay;
+  const float len2 = dx * dx + dy * dy;
+  const float u = len2 > 0.0f ? std::clamp(((px - ax) * dx + (py - ay) * dy) / len2, 0.0f, 1.0f)
+                              : 0.0f;
+  qx = ax + u * dx;
+  qy = ay + u * dy;
+}
+
 // Points of the hexagonal lattice (density 1/spacing^2) of the triangle's plane that lie
-// inside the triangle. The lattice offset depends on the seed only.
+// inside the triangle. The lattice offset depends on the seed only, so coplanar
+// triangles share one lattice and a quad split in two has no seam.
+//
+// Border edges (bit e of `borderEdges` for the edge from vertex e to e + 1: shared with
+// no coplanar lattice triangle) also get the lattice sites just outside them, moved onto
+// the triangle. A point of the triangle whose nearest lattice site lies outside is
+// otherwise not covered when that site is farther than the disk radius: strips along the
+// borders stay open and gather rays leave through them (the furnace test at coarse
+// spacing, docs/pointcloud.md). Every point of the plane is within the covering radius
+// R = a / sqrt(3) of a site, and moving a site onto the (convex) triangle brings it no
+// farther from any point of the triangle, so with these sites every point of the
+// triangle is within R < disk radius of a surfel. Sites beyond an edge shared with a
+// coplanar neighbour are the neighbour's; a corner gets at most one site.
 template <class Emit>
-void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, Emit&& emit) {
+void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, uint8_t borderEdges,
+                   Emit&& emit) {
   const Frame frame(canonicalNormal(t.unitNormal));
   const float a = spacing * std::sqrt(2.0f / std::sqrt(3.0f));  // hexagon cell area = s^2
   const float rowHeight = a * std::sqrt(3.0f) * 0.5f;
+  const float coveringRadius = a / std::sqrt(3.0f);
+  // Border sites sit this far inside the edge, so that their shadow rays do not start on
+  // the plane of the adjoining surface.
+  const float inset = 0.02f * spacing;
   Rng rng(seed, 0x1a771ceull);
   const float offU = rng.uniform() * a, offV = rng.uniform() * rowHeight;
   const float x[3] = {dot(t.v0, frame.s), dot(t.v1, frame.s), dot(t.v2, frame.s)};
   const float y[3] = {dot(t.v0, frame.t), dot(t.v1, frame.t), dot(t.v2, frame.t)};
+  const float orientation = edgeFunction(x[0], y[0], x[1], y[1], x[2], y[2]) >= 0.0f ? 1.0f : -1.0f;
+  const float cx = (x[0] + x[1] + x[2]) / 3.0f, cy = (y[0] + y[1] + y[2]) / 3.0f;
   const float w = dot(t.v0, frame.n);
-  const float ylo = std::min({y[0], y[1], y[2]}), yhi = std::max({y[0], y[1], y[2]});
-  const float xlo = std::min({x[0], x[1], x[2]}), xhi = std::max({x[0], x[1], x[2]});
+  const float margin = borderEdges != 0 ? coveringRadius : 0.0f;
+  const float ylo = std::min({y[0], y[1], y[2]}) - margin;
+  const float yhi = std::max({y[0], y[1], y[2]}) + margin;
+  const float xlo = std::min({x[0], x[1], x[2]}) - margin;
+  const float xhi = std::max({x[0], x[1], x[2]}) + margin;
+  bool cornerTaken[3] = {false, false, false};
+  auto lift = [&](float px, float py) { return frame.s * px + frame.t * py + frame.n * w; };
   const auto j0 = static_cast<long>(std::floor((ylo - offV) / rowHeight));
   const auto j1 = static_cast<long>(std::ceil((yhi - offV) / rowHeight));
   for (long j = j0; j <= j1; ++j) {
@@ -75,7 +122,46 @@ void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, Emit&& e
     const auto i1 = static_cast<long>(std::ceil((xhi - rowShift) / a));
     for (long i = i0; i <= i1; ++i) {
       const float px = rowShift + static_cast<float>(i) * a;
-      if (inside2d(px, py, x, y)) emit(frame.s * px + frame.t * py + frame.n * w);
+      if (inside2d(px, py, x, y)) {
+        emit(lift(px, py));
+        continue;
+      }
+      if (borderEdges == 0) continue;
+      // Outside: kept only if every edge it lies beyond is a border edge.
+      bool keep = true;
+      float best = kInf, qx = 0.0f, qy = 0.0f;
+      int nearestEdge = -1;
+      float nearestU = 0.0f;
+      for (int e = 0; e < 3 && keep; ++e) {
+        const int f = (e + 1) % 3;
+        if (orientation * edgeFunction(x[e], y[e], x[f], y[f], px, py) >= 0.0f) continue;
+        if (!(borderEdges & (1u << e))) keep = false;
+      }
+      if (!keep) continue;
+      for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        float ex, ey;
+        closestOnSegment(x[e], y[e], x[f], y[f], px, py, ex, ey);
+        const float d2 = (ex - px) * (ex - px) + (ey - py) * (ey - py);
+        if (d2 < best) {
+          best = d2;
+          qx = ex;
+          qy = ey;
+          nearestEdge = e;
+          const float len = std::hypot(x[f] - x[e], y[f] - y[e]);
+          nearestU = len > 0.0f ? std::hypot(ex - x[e], ey - y[e]) / len : 0.0f;
+        }
+      }
+      if (!(best <= coveringRadius * coveringRadius)) continue;
+      // A site whose nearest point is a corner: one per corner is enough.
+      const int corner = nearestU <= 0.0f ? nearestEdge : (nearestU >= 1.0f ? (nearestEdge + 1) % 3 : -1);
+      if (corner >= 0) {
+        if (cornerTaken[corner]) continue;
+        cornerTaken[corner] = true;
+      }
+      const float toCentre = std::hypot(cx - qx, cy - qy);
+      const float k = toCentre > 0.0f ? std::min(inset / toCentre, 1.0f) : 0.0f;
+      emit(lift(qx + (cx - qx) * k, qy + (cy - qy) * k));
     }
   }
 }
@@ -101,8 +187,9 @@ std::vector<uint32_t> smallTriangleCounts(const TriangleMesh& mesh, float spacin
   double cumulative = 0.0;
   const double invArea = 1.0 / (static_cast<double>(spacing) * spacing);
   for (size_t i = 0; i < n; ++i) {
-    const double expected = triangleInfo(mesh, i).area * invArea;
-    if (expected >= kLatticeMinSurfels) continue;
+    const TriangleInfo t = triangleInfo(mesh, i);
+    if (usesLattice(t, spacing)) continue;
+    const double expected = t.area * invArea;
     const double before = std::floor(cumulative + u0);
     cumulative += expected;
     counts[i] = static_cast<uint32_t>(std::floor(cumulative + u0) - before);
@@ -110,12 +197,54 @@ std::vector<uint32_t> smallTriangleCounts(const TriangleMesh& mesh, float spacin
   return counts;
 }
 
+// Per triangle, bit e set when its edge from vertex e to e + 1 is a border of the lattice
+// of its plane: no other lattice triangle of the same plane shares that edge (by vertex
+// positions, so unwelded meshes work too).
+std::vector<uint8_t> latticeBorderEdges(const TriangleMesh& mesh, float spacing) {
+  struct EdgeRecord {
+    std::array<float, 6> key;  // the two end points, in lexicographic order
+    uint32_t triangle;
+    uint8_t edge;
+  };
+  const size_t n = mesh.triangleCount();
+  std::vector<uint8_t> masks(n, 0);
+  std::vector<EdgeRecord> records;
+  records.reserve(3 * n);
+  for (size_t tri = 0; tri < n; ++tri) {
+    if (!usesLattice(triangleInfo(mesh, tri), spacing)) continue;
+    masks[tri] = 0b111;
+    for (int e = 0; e < 3; ++e) {
+      Vec3 p = mesh.vertex(tri, e), q = mesh.vertex(tri, (e + 1) % 3);
+      if (std::tie(q.x, q.y, q.z) < std::tie(p.x, p.y, p.z)) std::swap(p, q);
+      records.push_back({{p.x, p.y, p.z, q.x, q.y, q.z}, static_cast<uint32_t>(tri),
+                         static_cast<uint8_t>(e)});
+    }
+  }
+  std::sort(records.begin(), records.end(), [](const EdgeRecord& l, const EdgeRecord& r) {
+    return std::tie(l.key, l.triangle, l.edge) < std::tie(r.key, r.triangle, r.edge);
+  });
+  for (size_t begin = 0; begin < records.size();) {
+    size_t end = begin + 1;
+    while (end < records.size() && records[end].key == records[begin].key) ++end;
+    for (size_t i = begin; i < end; ++i)
+      for (size_t j = begin; j < end; ++j) {
+        if (i == j) continue;
+        const Vec3 ni = triangleInfo(mesh, records[i].triangle).unitNormal;
+        const Vec3 nj = triangleInfo(mesh, records[j].triangle).unitNormal;
+        // Sharing an edge, parallel normals mean one plane (either winding).
+        if (std::abs(dot(ni, nj)) > 1.0f - 1e-5f)
+          masks[records[i].triangle] &= static_cast<uint8_t>(~(1u << records[i].edge));
+      }
+    begin = end;
+  }
+  return masks;
+}
+
 template <class Emit>
-void trianglePoints(const TriangleInfo& t, size_t tri, uint32_t smallCount,
+void trianglePoints(const TriangleInfo& t, size_t tri, uint32_t smallCount, uint8_t borderEdges,
                     const UniformSurfelSettings& s, Emit&& emit) {
-  const float expected = t.area / (s.spacing * s.spacing);
-  if (expected >= kLatticeMinSurfels) {
-    latticePoints(t, s.spacing, s.seed, emit);
+  if (usesLattice(t, s.spacing)) {
+    latticePoints(t, s.spacing, s.seed, borderEdges, emit);
   } else if (smallCount > 0) {
     Rng rng(s.seed, tri);
     stratifiedPoints(t, smallCount, rng, emit);
@@ -142,13 +271,14 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
   const size_t n = mesh.triangleCount();
   const std::vector<uint32_t> smallCounts =
       smallTriangleCounts(mesh, settings.spacing, settings.seed);
+  const std::vector<uint8_t> borders = latticeBorderEdges(mesh, settings.spacing);
 
   // Pass 1 counts each triangle's surfels, pass 2 writes them at the prefix offsets:
   // the result is independent of the thread schedule.
   std::vector<size_t> offsets(n + 1, 0);
   tbb::parallel_for(size_t(0), n, [&](size_t tri) {
     size_t c = 0;
-    trianglePoints(triangleInfo(mesh, tri), tri, smallCounts[tri], settings,
+    trianglePoints(triangleInfo(mesh, tri), tri, smallCounts[tri], borders[tri], settings,
                    [&](const Vec3&) { ++c; });
     offsets[tri + 1] = c;
   });
@@ -162,7 +292,7 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
     const TriangleInfo t = triangleInfo(mesh, tri);
     const RGB albedo = materialOf(mesh, materials, tri).albedo;
     size_t k = offsets[tri];
-    trianglePoints(t, tri, smallCounts[tri], settings, [&](const Vec3& p) {
+    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p) {
       surfels.position[k] = p;
       surfels.normal[k] = t.unitNormal;
       surfels.radius[k] = radius;

@@ -41,7 +41,8 @@ struct SurfelSet {
     return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t);
   }
   size_t memoryBytes() const { return size() * bytesPerElement(); }
-  // Reorders every array so that new index i holds old element order[i].
+  // Reorders every array so that new index i holds old element order[i]; an order that
+  // lists only some elements keeps only those.
   void permute(const std::vector<uint32_t>& order);
 };
 

@@ -57,12 +57,15 @@ int runCompare(const CompareFlags& f) {
     j["rmse"] = e.rmse;
     j["psnr_db"] = std::isfinite(e.psnrDb) ? nlohmann::json(e.psnrDb) : nlohmann::json("inf");
     j["max_abs"] = e.maxAbs;
+    j["mean_ratio"] = std::isfinite(e.meanRatio) ? nlohmann::json(e.meanRatio) : nlohmann::json("inf");
     j["width"] = test.width;
     j["height"] = test.height;
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("delta    %.4f %%\nrelMSE   %.6g\nRMSE     %.6g\nPSNR     %.3f dB\nmax abs  %.6g\n",
-                e.deltaPercent, e.relMse, e.rmse, e.psnrDb, e.maxAbs);
+    std::printf(
+        "delta    %.4f %%\nrelMSE   %.6g\nRMSE     %.6g\nPSNR     %.3f dB\nmax abs  %.6g\n"
+        "A/B mean %.6g\n",
+        e.deltaPercent, e.relMse, e.rmse, e.psnrDb, e.maxAbs, e.meanRatio);
   }
   return 0;
 }

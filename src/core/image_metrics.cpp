@@ -14,13 +14,14 @@ ImageError compareImages(const Image& test, const Image& reference, const std::s
                      "is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
                          " but the reference " + referenceName + " is " +
                          std::to_string(reference.width) + "x" + std::to_string(reference.height));
-  double sumAbs = 0.0, sumRef = 0.0, sumSq = 0.0, sumRel = 0.0, peak = 0.0, maxAbs = 0.0;
+  double sumAbs = 0.0, sumRef = 0.0, sumTest = 0.0, sumSq = 0.0, sumRel = 0.0, peak = 0.0, maxAbs = 0.0;
   for (size_t i = 0; i < test.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       const double a = test.pixels[i][c], b = reference.pixels[i][c];
       const double d = a - b;
       sumAbs += std::abs(d);
       sumRef += std::abs(b);
+      sumTest += std::abs(a);
       sumSq += d * d;
       sumRel += d * d / (b * b + 0.01);
       peak = std::max(peak, b);
@@ -36,6 +37,8 @@ ImageError compareImages(const Image& test, const Image& reference, const std::s
   e.psnrDb = mse > 0.0 ? 10.0 * std::log10((peak > 0.0 ? peak * peak : 1.0) / mse)
                        : std::numeric_limits<double>::infinity();
   e.maxAbs = maxAbs;
+  e.meanRatio = sumRef > 0.0 ? sumTest / sumRef
+                             : (sumTest > 0.0 ? std::numeric_limits<double>::infinity() : 1.0);
   return e;
 }
 

@@ -15,6 +15,7 @@ struct ImageError {
   double psnrDb = 0.0;        // 10 log10(peak^2 / MSE), peak = max of the reference;
                               // infinite for identical images
   double maxAbs = 0.0;        // max |A-B|
+  double meanRatio = 1.0;     // sum A / sum B: the bias of the overall brightness
 };
 
 // Throws InputError naming `testName` when the sizes differ.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "pointcloud/buried_surfels.h"
 #include "pointcloud/gather.h"
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
@@ -51,6 +52,13 @@ SurfelSet sampleSurfels(const RenderContext& ctx, float spacing) {
   settings.spacing = spacing;
   settings.seed = scene.render.seed;
   return sampleSurfelsUniform(scene.mesh, scene.materials, settings);
+}
+
+void removeBuried(const RenderContext& ctx, float spacing, SurfelSet& surfels, Report& report) {
+  const float reach = ctx.scene.pointcloud.burialReach * spacing;
+  if (!(reach > 0.0f) || surfels.size() == 0) return;
+  report.add("buried_surfels",
+             removeBuriedSurfels(surfels, ctx.tracer, {reach, 16, ctx.scene.render.seed}));
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
@@ -114,6 +122,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   {
     PhaseTimer timer(report, "surfel_sampling");
     surfels = sampleSurfels(ctx, spacing);
+    removeBuried(ctx, spacing, surfels, report);
   }
   LvoxelSet lvoxels;
   if (cache.lvoxels) {
@@ -143,14 +152,13 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     GatherOptions lvoxelOptions =
         gatherOptions(scene, spacing, scene.pointcloud.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
-    cacheInterreflection(*cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes,
-                         scene.render.seed);
+    const InterreflectionStats stats = cacheInterreflection(
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, scene.render.seed);
     if (cache.lvoxels) addMultipleScattering(cache.cloud->lvoxels(), cache.field);
-    const PointCloud& cloud = *cache.cloud;
-    report.add("cache_gather_rays",
-               static_cast<uint64_t>(passes) *
-                   (2 * cloud.surfels().size() * static_cast<uint64_t>(surfelOptions.samples) +
-                    cloud.lvoxels().size() * static_cast<uint64_t>(lvoxelOptions.samples)));
+    report.add("cache_gather_rays", stats.gatherRays);
+    report.add("interreflection_weights", stats.entries);
+    report.memory["interreflection_operator"] = stats.operatorBytes;
+    report.settings["interreflection_last_pass_change"] = std::to_string(stats.lastPassChange);
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);

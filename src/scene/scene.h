@@ -103,7 +103,8 @@ struct PointCloudSettings {
   float lvoxelSpacing = 0.0f;             // 0: derived from the medium size
   int lvoxelSamples = 2;                  // jittered samples per axis averaged per lvoxel
   int lvoxelGatherSamples = 16;           // sphere rays per lvoxel and scattering pass
-  int bounces = 8;                        // interreflection passes (surfels and lvoxels)
+  int bounces = 24;                       // interreflection passes (surfels and lvoxels)
+  float burialReach = 4.0f;               // surfel spacings; 0 keeps buried surfels
   int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
   int gatherSamples = 128;                // gather rays per pixel (split over its samples)
   int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit

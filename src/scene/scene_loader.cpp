@@ -279,7 +279,8 @@ void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
   s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
-  s.bounces = p.integer("bounces", 0, 64, s.bounces);
+  s.bounces = p.integer("bounces", 0, 1024, s.bounces);
+  s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
   s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
   s.surfelSampler = p.string("surfel_sampler", s.surfelSampler);

@@ -38,6 +38,7 @@ TEST(CompareCli, JsonMetricsAndHeatmap) {
   EXPECT_NEAR(j["delta_percent"].get<double>(), 10.0, 1e-4);  // 0.25 * 40 %
   EXPECT_NEAR(j["max_abs"].get<double>(), 0.8, 1e-5);
   EXPECT_NEAR(j["rmse"].get<double>(), 0.4, 1e-5);  // sqrt(0.25 * 0.64)
+  EXPECT_NEAR(j["mean_ratio"].get<double>(), 1.1, 1e-5);
   EXPECT_TRUE(std::filesystem::exists(dir / "heat.png"));
 }
 

@@ -18,6 +18,7 @@ TEST(ImageMetrics, KnownValues) {
   EXPECT_NEAR(e.relMse, 0.36 / 1.01 / 6.0, 1e-6);
   EXPECT_NEAR(e.psnrDb, 10.0 * std::log10(1.0 / (0.36 / 6.0)), 1e-4);
   EXPECT_NEAR(e.maxAbs, 0.6, 1e-6);
+  EXPECT_NEAR(e.meanRatio, 6.6 / 6.0, 1e-6);
 }
 
 TEST(ImageMetrics, IdenticalImages) {

@@ -1,0 +1,50 @@
+#include "pointcloud/buried_surfels.h"
+
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
+#include "pointcloud/gather.h"
+#include "src/core/rng.h"
+#include "src/core/sampling.h"
+
+namespace lvox {
+namespace {
+
+// True when every stratified cosine-weighted probe from p (side n) hits within reach.
+bool sideEnclosed(const RayTracer& tracer, const Vec3& p, const Vec3& n,
+                  const BuriedSurfelSettings& settings, Rng& rng) {
+  int rows, cols;
+  strataGrid(settings.raysPerSide, rows, cols);
+  const Frame frame(n);
+  const float eps = tracer.epsilon();
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
+      const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
+      const Ray probe{p + n * eps, frame.toWorld(cosineHemisphere(u1, u2)), 0.0f, settings.reach};
+      if (!tracer.occluded(probe)) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
+                           const BuriedSurfelSettings& settings) {
+  std::vector<uint8_t> buried(surfels.size(), 0);
+  tbb::parallel_for(size_t(0), surfels.size(), [&](size_t i) {
+    Rng rng(settings.seed ^ 0xb0c1edull, i);
+    buried[i] = sideEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng) &&
+                sideEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
+  });
+  std::vector<uint32_t> keep;
+  keep.reserve(surfels.size());
+  for (size_t i = 0; i < surfels.size(); ++i)
+    if (!buried[i]) keep.push_back(static_cast<uint32_t>(i));
+  const size_t removed = surfels.size() - keep.size();
+  if (removed > 0) surfels.permute(keep);
+  return removed;
+}
+
+}  // namespace lvox

@@ -1,0 +1,112 @@
+#pragma once
+// The interreflection's gathers as one sparse linear map. What a gather returns is linear
+// in the cloud's cached radiance: every element its rays reach contributes its radiance
+// times a weight (the transmittance in front, the lvoxel's opacity, the ray's quadrature
+// weight) that depends on geometry and media only (GatherRayWeights). Tracing the rays
+// once and keeping the weights turns each further interreflection pass into a sparse
+// matrix-vector product: passes no longer traverse the octree, so converging the bounce
+// series costs little more than its first pass.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "pointcloud/gather.h"
+
+namespace lvox {
+
+// Columns: every radiance a gather ray can pick up, in one flat vector.
+struct GatherColumns {
+  size_t surfels = 0, lvoxels = 0, surfelClusters = 0, lvoxelClusters = 0;
+
+  explicit GatherColumns(const PointCloud& cloud);
+  uint32_t surfel(uint32_t i, bool front) const { return front ? i : index(surfels + i); }
+  uint32_t lvoxel(uint32_t i) const { return index(2 * surfels + i); }
+  uint32_t surfelCluster(uint32_t n, bool front) const {
+    return index(2 * surfels + lvoxels + (front ? 0 : surfelClusters) + n);
+  }
+  uint32_t lvoxelCluster(uint32_t n) const {
+    return index(2 * surfels + lvoxels + 2 * surfelClusters + n);
+  }
+  uint32_t background() const { return index(size() - 1); }
+  size_t size() const { return 2 * surfels + lvoxels + 2 * surfelClusters + lvoxelClusters + 1; }
+  // The cloud's radiance as it stands (call updateAggregates first), in column order.
+  std::vector<RGB> values(const PointCloud& cloud, const RGB& backgroundRadiance) const;
+
+ private:
+  static uint32_t index(size_t i) { return static_cast<uint32_t>(i); }
+};
+
+struct GatherEntry {
+  uint32_t column;
+  RGB weight;
+};
+
+// Appends a gather's weights to one row (GatherRayWeights' sink).
+struct GatherRecorder {
+  const GatherColumns& columns;
+  std::vector<GatherEntry>& entries;
+
+  void surfel(uint32_t i, bool front, const RGB& w) { add(columns.surfel(i, front), w); }
+  void surfelCluster(uint32_t n, bool front, const RGB& w) {
+    add(columns.surfelCluster(n, front), w);
+  }
+  void lvoxel(uint32_t i, const RGB& w) { add(columns.lvoxel(i), w); }
+  void lvoxelCluster(uint32_t n, const RGB& w) { add(columns.lvoxelCluster(n), w); }
+  void addBackground(const RGB& w) { add(columns.background(), w); }
+  void add(uint32_t column, const RGB& w) {
+    if (maxComponent(w) > 0.0f) entries.push_back({column, w});
+  }
+};
+
+class GatherOperator {
+ public:
+  GatherOperator() = default;
+  // record(row, GatherRecorder&, TraversalScratch&) traces row `row`'s gather into the
+  // recorder. Rows are built in parallel in fixed blocks: the operator does not depend on
+  // the thread schedule.
+  template <class RecordRow>
+  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record);
+
+  size_t rows() const { return rows_; }
+  size_t entries() const;
+  size_t memoryBytes() const;
+  // out[r] = sum of weight * values[column] over row r.
+  void apply(const std::vector<RGB>& values, std::vector<RGB>& out) const;
+  const GatherColumns& columns() const { return columns_; }
+
+ private:
+  static constexpr size_t kRowsPerBlock = 512;
+  struct Block {
+    std::vector<uint32_t> rowEnd;  // entries of row k of the block end at rowEnd[k]
+    std::vector<GatherEntry> entries;
+  };
+  static void appendMerged(std::vector<GatherEntry>& row, Block& block);
+
+  GatherColumns columns_{PointCloud()};
+  size_t rows_ = 0;
+  std::vector<Block> blocks_;
+};
+
+template <class RecordRow>
+GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record)
+    : columns_(cloud), rows_(rows), blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock) {
+  tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
+    Block& block = blocks_[b];
+    const size_t begin = b * kRowsPerBlock, end = std::min(rows, begin + kRowsPerBlock);
+    block.rowEnd.reserve(end - begin);
+    std::vector<GatherEntry> row;
+    TraversalScratch scratch;
+    for (size_t r = begin; r < end; ++r) {
+      row.clear();
+      GatherRecorder recorder{columns_, row};
+      record(r, recorder, scratch);
+      appendMerged(row, block);
+    }
+    block.entries.shrink_to_fit();
+  });
+}
+
+}  // namespace lvox

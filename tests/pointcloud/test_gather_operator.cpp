@@ -1,0 +1,122 @@
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "pointcloud/gather_operator.h"
+#include "pointcloud/light_cache.h"
+#include "pointcloud/lvoxel_sampler.h"
+#include "pointcloud/scenes.h"
+#include "pointcloud/surfel_sampler.h"
+
+namespace lvox {
+namespace {
+
+// Closed unit box of albedo `albedo` (coarse lattice: its borders are covered), direct
+// radiance 1 on both sides of every surfel, lvoxels of the given medium inside.
+PointCloud litBox(float albedo, float spacing, const LvoxelSet& lvoxels = {}) {
+  TriangleMesh mesh;
+  test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
+  const Material m{"box", RGB(albedo), RGB(0.0f)};
+  PointCloud pc(sampleSurfelsUniform(mesh, {m}, {spacing, 1.15f, 4}), lvoxels);
+  cacheDirectLight(
+      pc, [](const SurfelLightQuery&) { return RGB(1.0f); },
+      [](const LvoxelLightQuery&) { return RGB(0.5f); });
+  return pc;
+}
+
+TEST(GatherOperator, OneApplicationEqualsTheGathersItRecorded) {
+  // Recording a gather and applying the weights to the cloud's radiance must give what
+  // the gather itself returns with the same random numbers: surfels, lvoxels, lvoxel
+  // clusters and the background all go through the weights.
+  const test::BoxMedium medium(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.8f, 0.6f, 0.8f), RGB(0.7f),
+                               RGB(2.0f));
+  const PointCloud pc = litBox(0.5f, 0.05f, sampleLvoxels(medium, {0.1f}));
+  GatherOptions o;
+  o.samples = 64;
+  o.maxLvoxelSolidAngle = 0.03f;
+  o.background = RGB(0.25f, 0.5f, 1.0f);
+  const Vec3 points[] = {{0.5f, 0.05f, 0.5f}, {0.3f, 0.4f, 0.7f}};
+  const Vec3 normals[] = {{0, 1, 0}, normalize(Vec3(1, 1, -1))};
+  const GatherOperator op(pc, 2, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
+    Rng rng(7, row);
+    gatherIrradianceInto(pc, points[row], normals[row], o, rng, scratch, rec);
+  });
+  std::vector<RGB> applied;
+  op.apply(op.columns().values(pc, o.background), applied);
+  ASSERT_EQ(applied.size(), 2u);
+  for (size_t row = 0; row < 2; ++row) {
+    Rng rng(7, row);
+    const RGB direct = gatherIrradiance(pc, points[row], normals[row], o, rng);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(applied[row][c], direct[c], 1e-5f * direct[c]);
+    EXPECT_GT(direct.x, 0.5f);  // the walls are seen (radiance 1) through the medium
+  }
+  EXPECT_GT(op.entries(), 2u);
+  EXPECT_GT(op.memoryBytes(), op.entries() * sizeof(GatherEntry) - 1);
+}
+
+TEST(GatherOperator, InterreflectionReachesTheRadiosityOfAClosedBox) {
+  // Inside a closed box whose walls all emit (here: reflect direct light of) radiance 1
+  // with albedo rho, every bounce multiplies by rho: L = 1 / (1 - rho) = 2 for rho = 0.5.
+  // 4 rays per side: a gather ray always hits a wall (closed lattice), so there is no
+  // noise to allow for; 24 passes leave 0.5^24 of the series. The outer sides would see
+  // nothing but for the disks along the box edges, which stick out past the edge (by up
+  // to a radius) and show their lit inner sides to outer surfels near the edge.
+  PointCloud pc = litBox(0.5f, 0.2f);
+  GatherOptions o;
+  o.samples = 4;
+  const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, 24, 5);
+  const SurfelSet& s = pc.surfels();
+  float worst = 0.0f;
+  size_t outerLit = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    worst = std::max(worst, std::abs(s.radianceFront[i].x - 2.0f));
+    ASSERT_GE(s.radianceBack[i].x, 1.0f - 1e-6f);
+    outerLit += s.radianceBack[i].x > 1.0f + 1e-6f;
+  }
+  std::printf("closed box, rho 0.5: worst |L - 2| = %.2e over %zu surfels, last pass %.2e; "
+              "%zu outer sides see edge disks\n",
+              worst, s.size(), stats.lastPassChange, outerLit);
+  EXPECT_LT(worst, 1e-4f);
+  EXPECT_EQ(stats.gatherRays, 2 * s.size() * 4);
+  EXPECT_LT(stats.lastPassChange, 1e-6);
+}
+
+TEST(GatherOperator, PassesAddBouncesOneAtATime) {
+  // Pass n gives the partial sum 1 + rho + ... + rho^n of the series.
+  for (int passes : {1, 2, 3}) {
+    PointCloud pc = litBox(0.5f, 0.25f);
+    GatherOptions o;
+    o.samples = 4;
+    cacheInterreflection(pc, IsotropicPhase{}, o, o, passes, 5);
+    const float expected = 2.0f - std::pow(0.5f, static_cast<float>(passes));
+    for (size_t i = 0; i < pc.surfels().size(); ++i)
+      ASSERT_NEAR(pc.surfels().radianceFront[i].x, expected, 1e-5f) << passes;
+  }
+}
+
+TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
+  const test::BoxMedium medium(Vec3(0.3f, 0.3f, 0.3f), Vec3(0.7f, 0.7f, 0.7f), RGB(0.2f),
+                               RGB(3.0f));
+  auto run = [&] {
+    PointCloud pc = litBox(0.7f, 0.1f, sampleLvoxels(medium, {0.1f}));
+    GatherOptions o;
+    o.samples = 8;
+    cacheInterreflection(pc, IsotropicPhase{}, o, o, 6, 9);
+    return pc;
+  };
+  const PointCloud a = run();
+  PointCloud b;
+  {
+    tbb::task_arena one(1);
+    one.execute([&] { b = run(); });
+  }
+  for (size_t i = 0; i < a.surfels().size(); ++i)
+    ASSERT_EQ(a.surfels().radianceFront[i], b.surfels().radianceFront[i]);
+  for (size_t i = 0; i < a.lvoxels().size(); ++i)
+    ASSERT_EQ(a.lvoxels().multiScatter[i], b.lvoxels().multiScatter[i]);
+}
+
+}  // namespace
+}  // namespace lvox
