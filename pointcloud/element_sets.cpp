@@ -22,6 +22,7 @@ void SurfelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(radius, order);
   permuteArray(albedo, order);
   permuteArray(triangle, order);
+  permuteArray(clip, order);
   permuteArray(radianceFront, order);
   permuteArray(radianceBack, order);
 }

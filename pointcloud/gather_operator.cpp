@@ -8,7 +8,8 @@ GatherColumns::GatherColumns(const PointCloud& cloud)
       surfelClusters(cloud.surfelClusters().size()),
       lvoxelClusters(cloud.lvoxelClusters().size()) {}
 
-std::vector<RGB> GatherColumns::values(const PointCloud& cloud, const RGB& backgroundRadiance) const {
+std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
+                                       const RGB& backgroundRadiance) const {
   std::vector<RGB> v(size());
   const SurfelSet& s = cloud.surfels();
   for (size_t i = 0; i < surfels; ++i) {

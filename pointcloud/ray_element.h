@@ -6,16 +6,23 @@
 
 namespace lvox {
 
-// Ray against a disk (centre c, unit normal n, radius r); t in (tmin, tmax).
-// `front` is true when the ray arrives on the side n points to.
-inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r, float& t,
-                          bool& front) {
+// A straight cut through a disk, in its plane: the points q with dot(q - c, normal) >
+// offset are not part of it. The zero normal (the default) cuts nothing.
+struct DiskClip {
+  Vec3 normal{0, 0, 0};
+  float offset = 0.0f;
+};
+
+// Ray against a disk (centre c, unit normal n, radius r, cut by `clip`); t in
+// (tmin, tmax). `front` is true when the ray arrives on the side n points to.
+inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r,
+                          const DiskClip& clip, float& t, bool& front) {
   const float denom = dot(n, ray.dir);
   if (std::abs(denom) < 1e-12f) return false;
   t = dot(c - ray.origin, n) / denom;
   if (!(t > ray.tmin && t < ray.tmax)) return false;
   const Vec3 d = ray.at(t) - c;
-  if (dot(d, d) > r * r) return false;
+  if (dot(d, d) > r * r || dot(d, clip.normal) > clip.offset) return false;
   front = denom < 0.0f;
   return true;
 }

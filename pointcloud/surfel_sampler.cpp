@@ -55,6 +55,10 @@ bool inside2d(float px, float py, const float* x, const float* y) {
   return true;
 }
 
+float diskRadius(const UniformSurfelSettings& s) {
+  return s.spacing / std::sqrt(kPi) * s.radiusScale;
+}
+
 bool usesLattice(const TriangleInfo& t, float spacing) {
   return t.area / (spacing * spacing) >= kLatticeMinSurfels;
 }
@@ -89,9 +93,13 @@ void closestOnSegment(float ax, float ay, float bx, float by, float px, float py
 // farther from any point of the triangle, so with these sites every point of the
 // triangle is within R < disk radius of a surfel. Sites beyond an edge shared with a
 // coplanar neighbour are the neighbour's; a corner gets at most one site.
+//
+// A disk within its radius of a border edge is cut along that edge (DiskClip): coverage
+// needs no part of it beyond the edge, and at a convex edge that part would stand in
+// front of the adjoining face and show it the disk's other side.
 template <class Emit>
-void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, uint8_t borderEdges,
-                   Emit&& emit) {
+void latticePoints(const TriangleInfo& t, float spacing, float diskRadius, uint64_t seed,
+                   uint8_t borderEdges, Emit&& emit) {
   const Frame frame(canonicalNormal(t.unitNormal));
   const float a = spacing * std::sqrt(2.0f / std::sqrt(3.0f));  // hexagon cell area = s^2
   const float rowHeight = a * std::sqrt(3.0f) * 0.5f;
@@ -112,7 +120,28 @@ void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, uint8_t 
   const float xlo = std::min({x[0], x[1], x[2]}) - margin;
   const float xhi = std::max({x[0], x[1], x[2]}) + margin;
   bool cornerTaken[3] = {false, false, false};
-  auto lift = [&](float px, float py) { return frame.s * px + frame.t * py + frame.n * w; };
+  // Outward unit normals of the border edges, in the plane.
+  float outX[3] = {0, 0, 0}, outY[3] = {0, 0, 0};
+  for (int e = 0; e < 3; ++e) {
+    const int f = (e + 1) % 3;
+    const float len = std::hypot(x[f] - x[e], y[f] - y[e]);
+    if (!(borderEdges & (1u << e)) || !(len > 0.0f)) continue;
+    outX[e] = orientation * (y[f] - y[e]) / len;
+    outY[e] = -orientation * (x[f] - x[e]) / len;
+  }
+  auto emitAt = [&](float px, float py) {
+    DiskClip clip;
+    float nearest = diskRadius;
+    for (int e = 0; e < 3; ++e) {
+      if (outX[e] == 0.0f && outY[e] == 0.0f) continue;
+      const float inside = outX[e] * (x[e] - px) + outY[e] * (y[e] - py);
+      if (inside < nearest) {
+        nearest = inside;
+        clip = {frame.s * outX[e] + frame.t * outY[e], std::max(inside, 0.0f)};
+      }
+    }
+    emit(frame.s * px + frame.t * py + frame.n * w, clip);
+  };
   const auto j0 = static_cast<long>(std::floor((ylo - offV) / rowHeight));
   const auto j1 = static_cast<long>(std::ceil((yhi - offV) / rowHeight));
   for (long j = j0; j <= j1; ++j) {
@@ -123,7 +152,7 @@ void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, uint8_t 
     for (long i = i0; i <= i1; ++i) {
       const float px = rowShift + static_cast<float>(i) * a;
       if (inside2d(px, py, x, y)) {
-        emit(lift(px, py));
+        emitAt(px, py);
         continue;
       }
       if (borderEdges == 0) continue;
@@ -161,7 +190,7 @@ void latticePoints(const TriangleInfo& t, float spacing, uint64_t seed, uint8_t 
       }
       const float toCentre = std::hypot(cx - qx, cy - qy);
       const float k = toCentre > 0.0f ? std::min(inset / toCentre, 1.0f) : 0.0f;
-      emit(lift(qx + (cx - qx) * k, qy + (cy - qy) * k));
+      emitAt(qx + (cx - qx) * k, qy + (cy - qy) * k);
     }
   }
 }
@@ -173,7 +202,7 @@ void stratifiedPoints(const TriangleInfo& t, uint32_t count, Rng& rng, Emit&& em
     const float u1 = (static_cast<float>(k) + rng.uniform()) / static_cast<float>(count);
     float b1, b2;
     uniformTriangle(u1, rng.uniform(), b1, b2);
-    emit(t.v0 * (1.0f - b1 - b2) + t.v1 * b1 + t.v2 * b2);
+    emit(t.v0 * (1.0f - b1 - b2) + t.v1 * b1 + t.v2 * b2, DiskClip{});
   }
 }
 
@@ -244,7 +273,7 @@ template <class Emit>
 void trianglePoints(const TriangleInfo& t, size_t tri, uint32_t smallCount, uint8_t borderEdges,
                     const UniformSurfelSettings& s, Emit&& emit) {
   if (usesLattice(t, s.spacing)) {
-    latticePoints(t, s.spacing, s.seed, borderEdges, emit);
+    latticePoints(t, s.spacing, diskRadius(s), s.seed, borderEdges, emit);
   } else if (smallCount > 0) {
     Rng rng(s.seed, tri);
     stratifiedPoints(t, smallCount, rng, emit);
@@ -279,7 +308,7 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
   tbb::parallel_for(size_t(0), n, [&](size_t tri) {
     size_t c = 0;
     trianglePoints(triangleInfo(mesh, tri), tri, smallCounts[tri], borders[tri], settings,
-                   [&](const Vec3&) { ++c; });
+                   [&](const Vec3&, const DiskClip&) { ++c; });
     offsets[tri + 1] = c;
   });
   for (size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
@@ -287,13 +316,14 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
   SurfelSet surfels;
   surfels.radiusScale = settings.radiusScale;
   surfels.resize(offsets[n]);
-  const float radius = settings.spacing / std::sqrt(kPi) * settings.radiusScale;
+  const float radius = diskRadius(settings);
   tbb::parallel_for(size_t(0), n, [&](size_t tri) {
     const TriangleInfo t = triangleInfo(mesh, tri);
     const RGB albedo = materialOf(mesh, materials, tri).albedo;
     size_t k = offsets[tri];
-    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p) {
+    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p, const DiskClip& clip) {
       surfels.position[k] = p;
+      surfels.clip[k] = clip;
       surfels.normal[k] = t.unitNormal;
       surfels.radius[k] = radius;
       surfels.albedo[k] = albedo;

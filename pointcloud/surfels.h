@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "pointcloud/ray_element.h"
 #include "src/core/math.h"
 
 namespace lvox {
@@ -15,6 +16,10 @@ struct SurfelSet {
   std::vector<float> radius;
   std::vector<RGB> albedo;
   std::vector<uint32_t> triangle;  // source triangle of the scene mesh (for materials)
+  // The disk ends at the border of its surface: a disk near a convex edge would otherwise
+  // stick out past it and show its other side (the inside of a solid) to gathers from the
+  // adjoining face.
+  std::vector<DiskClip> clip;
   // Cached outgoing radiance, W/(m^2 sr), of each side: L = albedo * E_direct / pi
   // (+ emission), filled by cacheDirectLight. Surfaces are two-sided in lvox, so a wall
   // lit from one side must stay dark seen from the other.
@@ -34,11 +39,13 @@ struct SurfelSet {
     radius.resize(n);
     albedo.resize(n);
     triangle.resize(n);
+    clip.resize(n);
     radianceFront.assign(n, RGB(0.0f));
     radianceBack.assign(n, RGB(0.0f));
   }
   static constexpr size_t bytesPerElement() {
-    return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t);
+    return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t) +
+           sizeof(DiskClip);
   }
   size_t memoryBytes() const { return size() * bytesPerElement(); }
   // Reorders every array so that new index i holds old element order[i]; an order that

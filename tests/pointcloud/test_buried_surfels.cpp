@@ -8,8 +8,8 @@ namespace lvox {
 namespace {
 
 bool insideBox(const Vec3& p, const Vec3& lo, const Vec3& hi, float margin) {
-  return p.x > lo.x + margin && p.y > lo.y + margin && p.z > lo.z + margin &&
-         p.x < hi.x - margin && p.y < hi.y - margin && p.z < hi.z - margin;
+  return p.x > lo.x + margin && p.y > lo.y + margin && p.z > lo.z + margin && p.x < hi.x - margin &&
+         p.y < hi.y - margin && p.z < hi.z - margin;
 }
 
 TEST(BuriedSurfels, TheFacesInsideAnOverlappingSolidGoAndNothingElse) {
@@ -18,7 +18,8 @@ TEST(BuriedSurfels, TheFacesInsideAnOverlappingSolidGoAndNothingElse) {
   // point inside a box leaves it through one of its faces within reach 2 (the wall is
   // 1 x 1 x 0.3, the slab 0.6 x 0.1 x 0.65), so all of them go; every surfel outside both
   // boxes sees open space through some of its 16 strata, so none of those goes.
-  const Vec3 wallLo(0, 0, 0), wallHi(1, 1, 0.3f), slabLo(0.2f, 0.4f, -0.5f), slabHi(0.8f, 0.5f, 0.15f);
+  const Vec3 wallLo(0, 0, 0), wallHi(1, 1, 0.3f), slabLo(0.2f, 0.4f, -0.5f),
+      slabHi(0.8f, 0.5f, 0.15f);
   TriangleMesh mesh;
   test::addBox(mesh, wallLo, wallHi, 0);
   test::addBox(mesh, slabLo, slabHi, 0);
@@ -29,13 +30,13 @@ TEST(BuriedSurfels, TheFacesInsideAnOverlappingSolidGoAndNothingElse) {
   size_t buried = 0, kept = 0;
   for (size_t i = 0; i < before.size(); ++i) {
     const Vec3& p = before.position[i];
-    const bool inside = insideBox(p, wallLo, wallHi, 0.005f) || insideBox(p, slabLo, slabHi, 0.005f);
+    const bool inside =
+        insideBox(p, wallLo, wallHi, 0.005f) || insideBox(p, slabLo, slabHi, 0.005f);
     buried += inside;
   }
   for (size_t i = 0; i < s.size(); ++i) {
     const Vec3& p = s.position[i];
-    ASSERT_FALSE(insideBox(p, wallLo, wallHi, 0.005f) || insideBox(p, slabLo, slabHi, 0.005f))
-        << p;
+    ASSERT_FALSE(insideBox(p, wallLo, wallHi, 0.005f) || insideBox(p, slabLo, slabHi, 0.005f)) << p;
     ++kept;
   }
   // Surfels within 0.005 of the joint lines may go either way.

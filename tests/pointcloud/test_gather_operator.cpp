@@ -60,9 +60,10 @@ TEST(GatherOperator, InterreflectionReachesTheRadiosityOfAClosedBox) {
   // Inside a closed box whose walls all emit (here: reflect direct light of) radiance 1
   // with albedo rho, every bounce multiplies by rho: L = 1 / (1 - rho) = 2 for rho = 0.5.
   // 4 rays per side: a gather ray always hits a wall (closed lattice), so there is no
-  // noise to allow for; 24 passes leave 0.5^24 of the series. The outer sides would see
-  // nothing but for the disks along the box edges, which stick out past the edge (by up
-  // to a radius) and show their lit inner sides to outer surfels near the edge.
+  // noise to allow for; 24 passes leave 0.5^24 of the series. The outer sides see
+  // nothing, except near the box corners: a disk is cut along one border edge only
+  // (DiskClip), so at a corner it can still stick out past the other edge and show its
+  // lit inner side. Uncut, 132 of the 215 outer sides saw such disks; cut, 21.
   PointCloud pc = litBox(0.5f, 0.2f);
   GatherOptions o;
   o.samples = 4;
@@ -75,10 +76,12 @@ TEST(GatherOperator, InterreflectionReachesTheRadiosityOfAClosedBox) {
     ASSERT_GE(s.radianceBack[i].x, 1.0f - 1e-6f);
     outerLit += s.radianceBack[i].x > 1.0f + 1e-6f;
   }
-  std::printf("closed box, rho 0.5: worst |L - 2| = %.2e over %zu surfels, last pass %.2e; "
-              "%zu outer sides see edge disks\n",
-              worst, s.size(), stats.lastPassChange, outerLit);
+  std::printf(
+      "closed box, rho 0.5: worst |L - 2| = %.2e over %zu surfels, last pass %.2e; "
+      "%zu outer sides see edge disks\n",
+      worst, s.size(), stats.lastPassChange, outerLit);
   EXPECT_LT(worst, 1e-4f);
+  EXPECT_LT(outerLit * 5, s.size());
   EXPECT_EQ(stats.gatherRays, 2 * s.size() * 4);
   EXPECT_LT(stats.lastPassChange, 1e-6);
 }
