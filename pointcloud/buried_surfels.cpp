@@ -32,16 +32,16 @@ bool sideEnclosed(const RayTracer& tracer, const Vec3& p, const Vec3& n,
 
 size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
                            const BuriedSurfelSettings& settings) {
-  std::vector<uint8_t> buried(surfels.size(), 0);
   tbb::parallel_for(size_t(0), surfels.size(), [&](size_t i) {
     Rng rng(settings.seed ^ 0xb0c1edull, i);
-    buried[i] = sideEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng) &&
-                sideEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
+    const bool front = sideEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng);
+    const bool back = sideEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
+    surfels.enclosedSides[i] = static_cast<uint8_t>((front ? 1u : 0u) | (back ? 2u : 0u));
   });
   std::vector<uint32_t> keep;
   keep.reserve(surfels.size());
   for (size_t i = 0; i < surfels.size(); ++i)
-    if (!buried[i]) keep.push_back(static_cast<uint32_t>(i));
+    if (surfels.enclosedSides[i] != 3u) keep.push_back(static_cast<uint32_t>(i));
   const size_t removed = surfels.size() - keep.size();
   if (removed > 0) surfels.permute(keep);
   return removed;

@@ -5,6 +5,12 @@
 // stick out of the solid by up to a radius and gather rays from outside hit them: dark
 // patches all along every joint. A surfel is buried when every short probe ray from
 // either side hits geometry within `reach`: neither side can be seen from open space.
+//
+// A surfel with one such side (the inner side of a wall, a column, a box) stays, with that
+// side marked in `enclosedSides`: gather rays pass by it. A disk is flat and its surface
+// may curve away from it or end at a corner, so the disks of a convex surface stick out
+// past it, and a gather ray from the surface itself can meet the inner side of a
+// neighbour's disk: on a column, the inside of the shaft, which is black.
 #include <cstddef>
 #include <cstdint>
 
@@ -19,7 +25,8 @@ struct BuriedSurfelSettings {
   uint64_t seed = 1;
 };
 
-// Removes the buried surfels (order of the others kept); returns how many were removed.
+// Marks the enclosed sides of every surfel and removes the surfels enclosed on both sides
+// (order of the others kept); returns how many were removed.
 size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
                            const BuriedSurfelSettings& settings);
 

@@ -23,6 +23,7 @@ void SurfelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(albedo, order);
   permuteArray(triangle, order);
   permuteArray(clip, order);
+  permuteArray(enclosedSides, order);
   permuteArray(radianceFront, order);
   permuteArray(radianceBack, order);
 }

@@ -20,6 +20,10 @@ struct SurfelSet {
   // stick out past it and show its other side (the inside of a solid) to gathers from the
   // adjoining face.
   std::vector<DiskClip> clip;
+  // Sides that face the inside of a solid (bit 0: front, bit 1: back; see
+  // buried_surfels.h). No ray from open space reaches them, so a gather ray that does
+  // has met a disk sticking out of its surface (a convex curve, a corner) and passes by.
+  std::vector<uint8_t> enclosedSides;
   // Cached outgoing radiance, W/(m^2 sr), of each side: L = albedo * E_direct / pi
   // (+ emission), filled by cacheDirectLight. Surfaces are two-sided in lvox, so a wall
   // lit from one side must stay dark seen from the other.
@@ -40,12 +44,13 @@ struct SurfelSet {
     albedo.resize(n);
     triangle.resize(n);
     clip.resize(n);
+    enclosedSides.assign(n, 0);
     radianceFront.assign(n, RGB(0.0f));
     radianceBack.assign(n, RGB(0.0f));
   }
   static constexpr size_t bytesPerElement() {
     return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t) +
-           sizeof(DiskClip);
+           sizeof(DiskClip) + sizeof(uint8_t);
   }
   size_t memoryBytes() const { return size() * bytesPerElement(); }
   // Reorders every array so that new index i holds old element order[i]; an order that

@@ -15,8 +15,9 @@ constexpr float kMaxReach = 2.0f;          // in grid spacings, along the surfac
 }  // namespace
 
 IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
-                           const GatherOptions& options, int spacing, uint64_t seed)
-    : spacing_(std::max(1, spacing)) {
+                           const GatherOptions& options, int spacing, float filterRadius,
+                           uint64_t seed)
+    : spacing_(std::max(1, spacing)), filterRadius_(std::max(1.0f, filterRadius)) {
   const Camera& camera = ctx.scene.camera;
   // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
   // every pixel lies between grid points.
@@ -50,24 +51,28 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
 bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradiance) const {
   const float u = (px - 0.5f) / static_cast<float>(spacing_);
   const float v = (py - 0.5f) / static_cast<float>(spacing_);
-  const long i0 = std::clamp(static_cast<long>(std::floor(u)), 0L, nx_ - 2);
-  const long j0 = std::clamp(static_cast<long>(std::floor(v)), 0L, ny_ - 2);
-  const float fu = std::clamp(u - static_cast<float>(i0), 0.0f, 1.0f);
-  const float fv = std::clamp(v - static_cast<float>(j0), 0.0f, 1.0f);
+  const float radius = filterRadius_;
+  const long i0 = std::max(static_cast<long>(std::floor(u - radius)) + 1, 0L);
+  const long i1 = std::min(static_cast<long>(std::ceil(u + radius)) - 1, nx_ - 1);
+  const long j0 = std::max(static_cast<long>(std::floor(v - radius)) + 1, 0L);
+  const long j1 = std::min(static_cast<long>(std::ceil(v + radius)) - 1, ny_ - 1);
   RGB sum(0.0f);
   float weightSum = 0.0f;
-  for (int c = 0; c < 4; ++c) {
-    const long di = c & 1, dj = c >> 1;
-    const Point& pt = at(i0 + di, j0 + dj);
-    if (!pt.valid || dot(pt.normal, hit.normal) < kMinNormalCosine) continue;
-    const Vec3 d = pt.position - hit.point;
-    if (std::abs(dot(d, hit.normal)) > kMaxPlaneDistance * pt.footprint || length(d) > pt.reach)
-      continue;
-    const float w = (di ? fu : 1.0f - fu) * (dj ? fv : 1.0f - fv);
-    sum += pt.irradiance * w;
-    weightSum += w;
-  }
-  // A sample right next to a rejected corner would lean on one far corner alone.
+  for (long j = j0; j <= j1; ++j)
+    for (long i = i0; i <= i1; ++i) {
+      const float w = std::max(0.0f, 1.0f - std::abs(u - static_cast<float>(i)) / radius) *
+                      std::max(0.0f, 1.0f - std::abs(v - static_cast<float>(j)) / radius);
+      if (!(w > 0.0f)) continue;
+      const Point& pt = at(i, j);
+      if (!pt.valid || dot(pt.normal, hit.normal) < kMinNormalCosine) continue;
+      const Vec3 d = pt.position - hit.point;
+      if (std::abs(dot(d, hit.normal)) > kMaxPlaneDistance * pt.footprint ||
+          length(d) > pt.reach * radius)
+        continue;
+      sum += pt.irradiance * w;
+      weightSum += w;
+    }
+  // A sample right next to rejected points would lean on one far point alone.
   if (weightSum < 0.05f) return false;
   irradiance = sum / weightSum;
   return true;

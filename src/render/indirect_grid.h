@@ -19,7 +19,7 @@ class IndirectGrid {
   IndirectGrid() = default;
   // Gathers `options.samples` rays at every grid point (parallel, deterministic).
   IndirectGrid(const RenderContext& ctx, const PointCloud& cloud, const GatherOptions& options,
-               int spacing, uint64_t seed);
+               int spacing, float filterRadius, uint64_t seed);
 
   bool empty() const { return points_.empty(); }
   size_t pointCount() const { return points_.size(); }
@@ -38,6 +38,7 @@ class IndirectGrid {
   const Point& at(long i, long j) const { return points_[static_cast<size_t>(j * nx_ + i)]; }
 
   int spacing_ = 1;
+  float filterRadius_ = 1.0f;  // tent half-width in grid spacings; 1: bilinear
   long nx_ = 0, ny_ = 0;
   std::vector<Point> points_;
 };

@@ -165,8 +165,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   if (scene.pointcloud.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
     const GatherOptions options = gatherOptions(scene, spacing, scene.pointcloud.gatherSamples);
-    cache.gathers =
-        IndirectGrid(ctx, *cache.cloud, options, scene.pointcloud.gatherSpacing, scene.render.seed);
+    cache.gathers = IndirectGrid(ctx, *cache.cloud, options, scene.pointcloud.gatherSpacing,
+                                 scene.pointcloud.gatherFilter, scene.render.seed);
     report.add("grid_gathers", cache.gathers.pointCount());
     report.add("grid_gather_rays",
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));

@@ -106,8 +106,9 @@ struct PointCloudSettings {
   int bounces = 24;                       // interreflection passes (surfels and lvoxels)
   float burialReach = 4.0f;               // surfel spacings; 0 keeps buried surfels
   int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
-  int gatherSamples = 128;                // gather rays per pixel (split over its samples)
+  int gatherSamples = 64;                 // gather rays per pixel (split over its samples)
   int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
+  float gatherFilter = 3.0f;              // tent half-width over final gathers, in gathers
   float lvoxelClusterSolidAngle = 0.03f;  // sr; the same for nodes holding lvoxels only
   float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
 };

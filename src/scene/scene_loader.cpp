@@ -279,6 +279,7 @@ void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
   s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
+  s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);

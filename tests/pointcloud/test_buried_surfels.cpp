@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "pointcloud/buried_surfels.h"
+#include "pointcloud/light_cache.h"
 #include "pointcloud/scenes.h"
 #include "pointcloud/surfel_sampler.h"
 
@@ -64,6 +67,54 @@ TEST(BuriedSurfels, OpenAndConcaveSurfacesKeepEverySurfel) {
   const size_t n = s.size();
   EXPECT_EQ(removeBuriedSurfels(s, RayTracer(mesh), {0.2f, 16, 1}), 0u);
   EXPECT_EQ(s.size(), n);
+}
+
+TEST(BuriedSurfels, GatherRaysPassTheInsideOfSolids) {
+  // A sphere (small triangles: random surfels, disks on its facets) and a box in empty
+  // space, every side of every surfel at radiance 1. From a point on either surface,
+  // nothing but the sky can be seen, so the irradiance should be 0. Flat disks on a convex
+  // surface stick out past it, and gathers met the inner sides of the neighbours' disks;
+  // those sides are enclosed (probes from them hit the solid) and rays now pass them.
+  TriangleMesh mesh;
+  test::addSphere(mesh, Vec3(0, 0, 0), 0.5f, 24, 48, 0);
+  test::addBox(mesh, Vec3(2, -0.5f, -0.5f), Vec3(3, 0.5f, 0.5f), 0);
+  const RayTracer tracer(mesh);
+  auto gatherOnTheSurfaces = [&](bool markEnclosed) {
+    SurfelSet s = sampleSurfelsUniform(mesh, {Material{}}, {0.1f, 1.15f, 5});
+    const size_t n = s.size();
+    if (markEnclosed) {
+      EXPECT_EQ(removeBuriedSurfels(s, tracer, {2.0f, 16, 1}), 0u);
+    }
+    EXPECT_EQ(s.size(), n);
+    PointCloud pc(std::move(s), {});
+    cacheDirectLight(
+        pc, [](const SurfelLightQuery&) { return RGB(1.0f); },
+        [](const LvoxelLightQuery&) { return RGB(0.0f); });
+    GatherOptions o;
+    o.samples = 256;
+    o.rayOffset = 1e-3f;
+    float sphere = 0.0f, box = 0.0f;
+    Rng rng(4, 1);
+    for (int k = 0; k < 16; ++k) {
+      // Sphere vertices lie on the faceted surface (the disks lie on its facets).
+      const Vec3 v = mesh.positions[static_cast<size_t>(48 * (3 + k) + 5 * k)];
+      sphere += gatherIrradiance(pc, v, normalize(v), o, rng).x;
+      const float f = static_cast<float>(k) / 15.0f;
+      const Vec3 onBox(2.02f + 0.96f * f, 0.5f, -0.48f + 0.7f * f);  // top face, to its edges
+      box += gatherIrradiance(pc, onBox, Vec3(0, 1, 0), o, rng).x;
+    }
+    return std::pair<float, float>(sphere / 16.0f, box / 16.0f);
+  };
+  const auto unmarked = gatherOnTheSurfaces(false), marked = gatherOnTheSurfaces(true);
+  std::printf(
+      "mean E on the sphere / the box: %.4f / %.4f with inner sides hit, %.4f / %.4f "
+      "passed\n",
+      unmarked.first, unmarked.second, marked.first, marked.second);
+  EXPECT_GT(unmarked.first, 0.1f);
+  EXPECT_EQ(marked.second, 0.0f);  // the box's disks are cut at its edges as well
+  // What is left on the sphere: the outer sides of neighbouring disks that overhang their
+  // facet, seen from a point of the faceted surface (random disks, not cut).
+  EXPECT_LT(marked.first, 0.25f * unmarked.first);
 }
 
 }  // namespace

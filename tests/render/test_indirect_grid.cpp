@@ -1,0 +1,96 @@
+// The screen-space grid of final gathers and its tent filter.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "pointcloud/light_cache.h"
+#include "pointcloud/surfel_sampler.h"
+#include "src/render/indirect_grid.h"
+#include "src/scene/scene_loader.h"
+
+namespace lvox {
+namespace {
+
+// A camera inside a closed box [0, 2]^3 looking down at the floor, 64 x 64 pixels.
+Scene boxScene() {
+  return parseScene(R"({
+    "camera": {"position": [1, 1.9, 1], "look_at": [1.01, 0, 1], "vfov_deg": 60, "width": 64, "height": 64},
+    "materials": {"w": {"albedo": 0.5}},
+    "shapes": [{"type": "quad", "corners": [[0,0,0],[2,0,0],[2,0,2],[0,0,2]], "material": "w"},
+               {"type": "quad", "corners": [[0,2,0],[0,2,2],[2,2,2],[2,2,0]], "material": "w"},
+               {"type": "quad", "corners": [[0,0,0],[0,2,0],[2,2,0],[2,0,0]], "material": "w"},
+               {"type": "quad", "corners": [[0,0,2],[2,0,2],[2,2,2],[0,2,2]], "material": "w"},
+               {"type": "quad", "corners": [[0,0,0],[0,0,2],[0,2,2],[0,2,0]], "material": "w"},
+               {"type": "quad", "corners": [[2,0,0],[2,2,0],[2,2,2],[2,0,2]], "material": "w"}],
+    "lights": [{"type": "environment", "radiance": 1}]
+  })",
+                    "/tmp/indirect-grid.json");
+}
+
+struct Lookups {
+  double mean = 0.0, variance = 0.0;
+  int found = 0;
+};
+
+// Looks the grid up at every pixel centre (the camera hit of that pixel).
+Lookups lookUpEveryPixel(const Scene& scene, const RayTracer& tracer, const IndirectGrid& grid) {
+  Lookups out;
+  double sum = 0.0, sumSq = 0.0;
+  for (int y = 0; y < scene.camera.height; ++y)
+    for (int x = 0; x < scene.camera.width; ++x) {
+      const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
+      SurfaceHit hit;
+      if (!tracer.intersect(scene.camera.generateRay(px, py), hit)) continue;
+      RGB e;
+      if (!grid.lookup(px, py, hit, e)) continue;
+      ++out.found;
+      sum += e.x;
+      sumSq += static_cast<double>(e.x) * e.x;
+    }
+  out.mean = sum / out.found;
+  out.variance = sumSq / out.found - out.mean * out.mean;
+  return out;
+}
+
+TEST(IndirectGrid, TentFilterKeepsAUniformIrradianceAndAveragesNoiseAway) {
+  const Scene scene = boxScene();
+  const RayTracer tracer(scene.mesh);
+  const LightSet lights(scene, 1);
+  const RenderContext ctx{scene, tracer, lights};
+  // Every surfel of the closed box sends radiance 1: every gather gives E = pi exactly,
+  // and so must every filtered lookup (the weights are normalised).
+  PointCloud uniform(sampleSurfelsUniform(scene.mesh, scene.materials, {0.05f, 1.15f, 1}), {});
+  cacheDirectLight(
+      uniform, [](const SurfelLightQuery&) { return RGB(1.0f); },
+      [](const LvoxelLightQuery&) { return RGB(0.0f); });
+  GatherOptions o;
+  o.samples = 16;
+  for (float filter : {1.0f, 2.0f, 3.0f}) {
+    const IndirectGrid grid(ctx, uniform, o, 4, filter, 1);
+    const Lookups l = lookUpEveryPixel(scene, tracer, grid);
+    EXPECT_EQ(l.found, 64 * 64) << filter;
+    EXPECT_NEAR(l.mean, kPi, 1e-4) << filter;
+    EXPECT_LT(l.variance, 1e-8) << filter;
+  }
+  // Surfels of random radiance in [0, 2]: each gather of 16 rays is noisy, the filter
+  // averages more gathers. Variance of the lookups: a tent over +-3 gathers averages
+  // about 4.5x as many gathers as bilinear interpolation.
+  PointCloud noisy(sampleSurfelsUniform(scene.mesh, scene.materials, {0.05f, 1.15f, 1}), {});
+  cacheDirectLight(
+      noisy,
+      [](const SurfelLightQuery& q) {
+        Rng rng(3, q.index);
+        return RGB(2.0f * rng.uniform());
+      },
+      [](const LvoxelLightQuery&) { return RGB(0.0f); });
+  const Lookups bilinear = lookUpEveryPixel(scene, tracer, IndirectGrid(ctx, noisy, o, 4, 1.0f, 1));
+  const Lookups tent = lookUpEveryPixel(scene, tracer, IndirectGrid(ctx, noisy, o, 4, 3.0f, 1));
+  std::printf("lookup variance: bilinear %.4g, tent 3 %.4g (means %.4f, %.4f)\n", bilinear.variance,
+              tent.variance, bilinear.mean, tent.mean);
+  EXPECT_LT(tent.variance, 0.35 * bilinear.variance);
+  EXPECT_NEAR(tent.mean, bilinear.mean, 0.02 * bilinear.mean);
+}
+
+}  // namespace
+}  // namespace lvox
