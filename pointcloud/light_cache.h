@@ -79,8 +79,8 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
 }
 
 struct InterreflectionStats {
-  size_t gatherRays = 0;     // traced once
-  size_t entries = 0;        // weights kept (GatherOperator)
+  size_t gatherRays = 0;  // traced once
+  size_t entries = 0;     // weights kept (GatherOperator)
   size_t operatorBytes = 0;
   // sum |L_last - L_previous| / sum |L_last| over surfels' radiance and lvoxels' in-scatter:
   // what the last pass still changed, i.e. roughly the share of light still missing.

@@ -68,16 +68,96 @@ float edgeFunction(float ax, float ay, float bx, float by, float px, float py) {
   return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
 }
 
-// Closest point to (px, py) on the segment a -> b.
+// Closest point q to (px, py) on the segment a -> b, at parameter u in [0, 1].
 void closestOnSegment(float ax, float ay, float bx, float by, float px, float py, float& qx,
-                      float& qy) {
+                      float& qy, float& u) {
   const float dx = bx - ax, dy = by - ay;
   const float len2 = dx * dx + dy * dy;
-  const float u = len2 > 0.0f ? std::clamp(((px - ax) * dx + (py - ay) * dy) / len2, 0.0f, 1.0f)
-                              : 0.0f;
+  u = len2 > 0.0f ? std::clamp(((px - ax) * dx + (py - ay) * dy) / len2, 0.0f, 1.0f) : 0.0f;
   qx = ax + u * dx;
   qy = ay + u * dy;
 }
+
+// A lattice triangle in the 2D frame of its plane, with what its border sites need.
+struct PlanarTriangle {
+  float x[3], y[3];
+  float orientation;    // +1 counter-clockwise, -1 clockwise
+  float cx, cy;         // centroid
+  uint8_t borderEdges;  // bit e: the edge from vertex e to e + 1 is a border
+  float outX[3] = {0, 0, 0}, outY[3] = {0, 0, 0};  // outward unit normals of border edges
+
+  PlanarTriangle(const TriangleInfo& t, const Frame& frame, uint8_t borders)
+      : x{dot(t.v0, frame.s), dot(t.v1, frame.s), dot(t.v2, frame.s)},
+        y{dot(t.v0, frame.t), dot(t.v1, frame.t), dot(t.v2, frame.t)},
+        orientation(edgeFunction(x[0], y[0], x[1], y[1], x[2], y[2]) >= 0.0f ? 1.0f : -1.0f),
+        cx((x[0] + x[1] + x[2]) / 3.0f),
+        cy((y[0] + y[1] + y[2]) / 3.0f),
+        borderEdges(borders) {
+    for (int e = 0; e < 3; ++e) {
+      const int f = (e + 1) % 3;
+      const float len = std::hypot(x[f] - x[e], y[f] - y[e]);
+      if (!isBorder(e) || !(len > 0.0f)) continue;
+      outX[e] = orientation * (y[f] - y[e]) / len;
+      outY[e] = -orientation * (x[f] - x[e]) / len;
+    }
+  }
+  bool isBorder(int e) const { return (borderEdges & (1u << e)) != 0; }
+  bool beyond(int e, float px, float py) const {
+    const int f = (e + 1) % 3;
+    return orientation * edgeFunction(x[e], y[e], x[f], y[f], px, py) < 0.0f;
+  }
+
+  // The cut of a disk centred at (px, py): along the nearest border edge closer than
+  // `radius`, none if there is none.
+  DiskClip clipAt(float px, float py, const Frame& frame, float radius) const {
+    DiskClip clip;
+    float nearest = radius;
+    for (int e = 0; e < 3; ++e) {
+      if (outX[e] == 0.0f && outY[e] == 0.0f) continue;
+      const float inside = outX[e] * (x[e] - px) + outY[e] * (y[e] - py);
+      if (inside < nearest) {
+        nearest = inside;
+        clip = {frame.s * outX[e] + frame.t * outY[e], std::max(inside, 0.0f)};
+      }
+    }
+    return clip;
+  }
+
+  // A lattice site (px, py) outside the triangle, moved onto it, `inset` inside towards
+  // the centroid. False when it lies beyond a shared edge (the neighbour's), farther than
+  // `reach` from the triangle, or at a corner that has its site already.
+  bool borderSite(float px, float py, float reach, float inset, bool cornerTaken[3], float& qx,
+                  float& qy) const {
+    for (int e = 0; e < 3; ++e)
+      if (beyond(e, px, py) && !isBorder(e)) return false;
+    float best = kInf;
+    int corner = -1;
+    qx = px;
+    qy = py;
+    for (int e = 0; e < 3; ++e) {
+      const int f = (e + 1) % 3;
+      float ex, ey, u;
+      closestOnSegment(x[e], y[e], x[f], y[f], px, py, ex, ey, u);
+      const float d2 = (ex - px) * (ex - px) + (ey - py) * (ey - py);
+      if (d2 < best) {
+        best = d2;
+        qx = ex;
+        qy = ey;
+        corner = u <= 0.0f ? e : (u >= 1.0f ? f : -1);
+      }
+    }
+    if (!(best <= reach * reach)) return false;
+    if (corner >= 0) {
+      if (cornerTaken[corner]) return false;
+      cornerTaken[corner] = true;
+    }
+    const float toCentre = std::hypot(cx - qx, cy - qy);
+    const float k = toCentre > 0.0f ? std::min(inset / toCentre, 1.0f) : 0.0f;
+    qx += (cx - qx) * k;
+    qy += (cy - qy) * k;
+    return true;
+  }
+};
 
 // Points of the hexagonal lattice (density 1/spacing^2) of the triangle's plane that lie
 // inside the triangle. The lattice offset depends on the seed only, so coplanar
@@ -109,39 +189,17 @@ void latticePoints(const TriangleInfo& t, float spacing, float diskRadius, uint6
   const float inset = 0.02f * spacing;
   Rng rng(seed, 0x1a771ceull);
   const float offU = rng.uniform() * a, offV = rng.uniform() * rowHeight;
-  const float x[3] = {dot(t.v0, frame.s), dot(t.v1, frame.s), dot(t.v2, frame.s)};
-  const float y[3] = {dot(t.v0, frame.t), dot(t.v1, frame.t), dot(t.v2, frame.t)};
-  const float orientation = edgeFunction(x[0], y[0], x[1], y[1], x[2], y[2]) >= 0.0f ? 1.0f : -1.0f;
-  const float cx = (x[0] + x[1] + x[2]) / 3.0f, cy = (y[0] + y[1] + y[2]) / 3.0f;
+  const PlanarTriangle tri(t, frame, borderEdges);
   const float w = dot(t.v0, frame.n);
-  const float margin = borderEdges != 0 ? coveringRadius : 0.0f;
-  const float ylo = std::min({y[0], y[1], y[2]}) - margin;
-  const float yhi = std::max({y[0], y[1], y[2]}) + margin;
-  const float xlo = std::min({x[0], x[1], x[2]}) - margin;
-  const float xhi = std::max({x[0], x[1], x[2]}) + margin;
-  bool cornerTaken[3] = {false, false, false};
-  // Outward unit normals of the border edges, in the plane.
-  float outX[3] = {0, 0, 0}, outY[3] = {0, 0, 0};
-  for (int e = 0; e < 3; ++e) {
-    const int f = (e + 1) % 3;
-    const float len = std::hypot(x[f] - x[e], y[f] - y[e]);
-    if (!(borderEdges & (1u << e)) || !(len > 0.0f)) continue;
-    outX[e] = orientation * (y[f] - y[e]) / len;
-    outY[e] = -orientation * (x[f] - x[e]) / len;
-  }
   auto emitAt = [&](float px, float py) {
-    DiskClip clip;
-    float nearest = diskRadius;
-    for (int e = 0; e < 3; ++e) {
-      if (outX[e] == 0.0f && outY[e] == 0.0f) continue;
-      const float inside = outX[e] * (x[e] - px) + outY[e] * (y[e] - py);
-      if (inside < nearest) {
-        nearest = inside;
-        clip = {frame.s * outX[e] + frame.t * outY[e], std::max(inside, 0.0f)};
-      }
-    }
-    emit(frame.s * px + frame.t * py + frame.n * w, clip);
+    emit(frame.s * px + frame.t * py + frame.n * w, tri.clipAt(px, py, frame, diskRadius));
   };
+  const float margin = borderEdges != 0 ? coveringRadius : 0.0f;
+  const float ylo = std::min({tri.y[0], tri.y[1], tri.y[2]}) - margin;
+  const float yhi = std::max({tri.y[0], tri.y[1], tri.y[2]}) + margin;
+  const float xlo = std::min({tri.x[0], tri.x[1], tri.x[2]}) - margin;
+  const float xhi = std::max({tri.x[0], tri.x[1], tri.x[2]}) + margin;
+  bool cornerTaken[3] = {false, false, false};
   const auto j0 = static_cast<long>(std::floor((ylo - offV) / rowHeight));
   const auto j1 = static_cast<long>(std::ceil((yhi - offV) / rowHeight));
   for (long j = j0; j <= j1; ++j) {
@@ -151,46 +209,12 @@ void latticePoints(const TriangleInfo& t, float spacing, float diskRadius, uint6
     const auto i1 = static_cast<long>(std::ceil((xhi - rowShift) / a));
     for (long i = i0; i <= i1; ++i) {
       const float px = rowShift + static_cast<float>(i) * a;
-      if (inside2d(px, py, x, y)) {
+      float qx = px, qy = py;
+      if (inside2d(px, py, tri.x, tri.y))
         emitAt(px, py);
-        continue;
-      }
-      if (borderEdges == 0) continue;
-      // Outside: kept only if every edge it lies beyond is a border edge.
-      bool keep = true;
-      float best = kInf, qx = 0.0f, qy = 0.0f;
-      int nearestEdge = -1;
-      float nearestU = 0.0f;
-      for (int e = 0; e < 3 && keep; ++e) {
-        const int f = (e + 1) % 3;
-        if (orientation * edgeFunction(x[e], y[e], x[f], y[f], px, py) >= 0.0f) continue;
-        if (!(borderEdges & (1u << e))) keep = false;
-      }
-      if (!keep) continue;
-      for (int e = 0; e < 3; ++e) {
-        const int f = (e + 1) % 3;
-        float ex, ey;
-        closestOnSegment(x[e], y[e], x[f], y[f], px, py, ex, ey);
-        const float d2 = (ex - px) * (ex - px) + (ey - py) * (ey - py);
-        if (d2 < best) {
-          best = d2;
-          qx = ex;
-          qy = ey;
-          nearestEdge = e;
-          const float len = std::hypot(x[f] - x[e], y[f] - y[e]);
-          nearestU = len > 0.0f ? std::hypot(ex - x[e], ey - y[e]) / len : 0.0f;
-        }
-      }
-      if (!(best <= coveringRadius * coveringRadius)) continue;
-      // A site whose nearest point is a corner: one per corner is enough.
-      const int corner = nearestU <= 0.0f ? nearestEdge : (nearestU >= 1.0f ? (nearestEdge + 1) % 3 : -1);
-      if (corner >= 0) {
-        if (cornerTaken[corner]) continue;
-        cornerTaken[corner] = true;
-      }
-      const float toCentre = std::hypot(cx - qx, cy - qy);
-      const float k = toCentre > 0.0f ? std::min(inset / toCentre, 1.0f) : 0.0f;
-      emitAt(qx + (cx - qx) * k, qy + (cy - qy) * k);
+      else if (borderEdges != 0 &&
+               tri.borderSite(px, py, coveringRadius, inset, cornerTaken, qx, qy))
+        emitAt(qx, qy);
     }
   }
 }
@@ -245,8 +269,8 @@ std::vector<uint8_t> latticeBorderEdges(const TriangleMesh& mesh, float spacing)
     for (int e = 0; e < 3; ++e) {
       Vec3 p = mesh.vertex(tri, e), q = mesh.vertex(tri, (e + 1) % 3);
       if (std::tie(q.x, q.y, q.z) < std::tie(p.x, p.y, p.z)) std::swap(p, q);
-      records.push_back({{p.x, p.y, p.z, q.x, q.y, q.z}, static_cast<uint32_t>(tri),
-                         static_cast<uint8_t>(e)});
+      records.push_back(
+          {{p.x, p.y, p.z, q.x, q.y, q.z}, static_cast<uint32_t>(tri), static_cast<uint8_t>(e)});
     }
   }
   std::sort(records.begin(), records.end(), [](const EdgeRecord& l, const EdgeRecord& r) {
@@ -321,15 +345,16 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
     const TriangleInfo t = triangleInfo(mesh, tri);
     const RGB albedo = materialOf(mesh, materials, tri).albedo;
     size_t k = offsets[tri];
-    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p, const DiskClip& clip) {
-      surfels.position[k] = p;
-      surfels.clip[k] = clip;
-      surfels.normal[k] = t.unitNormal;
-      surfels.radius[k] = radius;
-      surfels.albedo[k] = albedo;
-      surfels.triangle[k] = static_cast<uint32_t>(tri);
-      ++k;
-    });
+    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings,
+                   [&](const Vec3& p, const DiskClip& clip) {
+                     surfels.position[k] = p;
+                     surfels.clip[k] = clip;
+                     surfels.normal[k] = t.unitNormal;
+                     surfels.radius[k] = radius;
+                     surfels.albedo[k] = albedo;
+                     surfels.triangle[k] = static_cast<uint32_t>(tri);
+                     ++k;
+                   });
   });
   return surfels;
 }

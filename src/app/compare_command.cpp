@@ -57,7 +57,8 @@ int runCompare(const CompareFlags& f) {
     j["rmse"] = e.rmse;
     j["psnr_db"] = std::isfinite(e.psnrDb) ? nlohmann::json(e.psnrDb) : nlohmann::json("inf");
     j["max_abs"] = e.maxAbs;
-    j["mean_ratio"] = std::isfinite(e.meanRatio) ? nlohmann::json(e.meanRatio) : nlohmann::json("inf");
+    j["mean_ratio"] =
+        std::isfinite(e.meanRatio) ? nlohmann::json(e.meanRatio) : nlohmann::json("inf");
     j["width"] = test.width;
     j["height"] = test.height;
     std::cout << j.dump(2) << "\n";

@@ -14,7 +14,8 @@ ImageError compareImages(const Image& test, const Image& reference, const std::s
                      "is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
                          " but the reference " + referenceName + " is " +
                          std::to_string(reference.width) + "x" + std::to_string(reference.height));
-  double sumAbs = 0.0, sumRef = 0.0, sumTest = 0.0, sumSq = 0.0, sumRel = 0.0, peak = 0.0, maxAbs = 0.0;
+  double sumAbs = 0.0, sumRef = 0.0, sumTest = 0.0, sumSq = 0.0, sumRel = 0.0, peak = 0.0,
+         maxAbs = 0.0;
   for (size_t i = 0; i < test.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       const double a = test.pixels[i][c], b = reference.pixels[i][c];

@@ -86,7 +86,7 @@ struct MediumDesc {
 
 struct VolumeIntegratorSettings {
   std::string solver = "auto";  // or any method of volume/rte/method.h
-  float step = 0.1f;  // scene units
+  float step = 0.1f;            // scene units
   float tolerance = 1e-3f;
   float minStep = 1e-4f;
   float maxStep = 1.0f;

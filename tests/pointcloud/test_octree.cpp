@@ -126,8 +126,7 @@ std::vector<Visit> bruteForce(const PointCloud& pc, const Ray& ray) {
     Ray r = ray;
     r.tmax = tSurfel;
     if (intersectDisk(r, pc.surfels().position[i], pc.surfels().normal[i], pc.surfels().radius[i],
-                      pc.surfels().clip[i],
-                      t, front)) {
+                      pc.surfels().clip[i], t, front)) {
       tSurfel = t;
       nearest = i;
     }
