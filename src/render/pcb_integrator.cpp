@@ -34,8 +34,11 @@ GatherOptions gatherOptions(const Scene& scene, float spacing, int samples) {
   o.samples = samples;
   o.maxSolidAngle = scene.pointcloud.clusterSolidAngle;
   o.maxLvoxelSolidAngle = scene.pointcloud.lvoxelClusterSolidAngle;
-  // Gather rays start half a spacing out, past the receiver's own (possibly tilted) disks.
-  o.rayOffset = 0.5f * spacing;
+  // Gather rays start a quarter spacing out, past the receiver's own (possibly tilted)
+  // disk. Neighbouring disks of a curved surface are passed by their enclosed inner sides
+  // (buried_surfels.h), so the offset need not skip them: half a spacing skipped real
+  // nearby geometry too (4.02 % against 3.88 % delta on the atrium, docs/results.md).
+  o.rayOffset = 0.25f * spacing;
   // Light from the environment is in the direct caches already.
   o.background = RGB(0.0f);
   return o;
