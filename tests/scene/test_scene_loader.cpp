@@ -79,6 +79,21 @@ TEST(SceneLoader, BadValues) {
               {"lights[0].direction"});
 }
 
+TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
+  auto withPointCloud = [](const std::string& settings) {
+    return withField("\"lights\"", "\"pointcloud\": {" + settings + "}, \"lights\"");
+  };
+  const Scene scene =
+      parseScene(withPointCloud("\"gather_filter\": 2.5, \"burial_reach\": 0, \"bounces\": 200"),
+                 "/tmp/scene.json");
+  EXPECT_FLOAT_EQ(scene.pointcloud.gatherFilter, 2.5f);
+  EXPECT_FLOAT_EQ(scene.pointcloud.burialReach, 0.0f);
+  EXPECT_EQ(scene.pointcloud.bounces, 200);
+  expectError(withPointCloud("\"gather_filter\": 0.5"), {"pointcloud.gather_filter", "outside"});
+  expectError(withPointCloud("\"burial_reach\": -1"), {"pointcloud.burial_reach", "outside"});
+  expectError(withPointCloud("\"bounces\": 5000"), {"pointcloud.bounces", "outside"});
+}
+
 TEST(SceneLoader, UnknownKeysAreErrors) {
   expectError(withField("\"vfov_deg\"", "\"vfov\": 3, \"vfov_deg\""), {"camera.vfov", "unknown"});
   expectError(withField("\"camera\"", "\"camrea\": {}, \"camera\""), {"camrea", "unknown"});
