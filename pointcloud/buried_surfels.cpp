@@ -28,14 +28,29 @@ bool sideEnclosed(const RayTracer& tracer, const Vec3& p, const Vec3& n,
   return true;
 }
 
+// True when the segment from the viewpoint to p, on the side n, is unoccluded.
+bool seenFrom(const RayTracer& tracer, const Vec3& viewpoint, const Vec3& p, const Vec3& n) {
+  const Vec3 target = p + n * tracer.epsilon();
+  const Vec3 d = target - viewpoint;
+  const float len = length(d);
+  if (!(len > 0.0f)) return true;
+  return !tracer.occluded(Ray{viewpoint, d / len, 0.0f, len * (1.0f - 1e-4f)});
+}
+
+bool isEnclosed(const RayTracer& tracer, const Vec3& p, const Vec3& n,
+                const BuriedSurfelSettings& settings, Rng& rng) {
+  return sideEnclosed(tracer, p, n, settings, rng) &&
+         !(settings.viewpoint && seenFrom(tracer, *settings.viewpoint, p, n));
+}
+
 }  // namespace
 
 size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
                            const BuriedSurfelSettings& settings) {
   tbb::parallel_for(size_t(0), surfels.size(), [&](size_t i) {
     Rng rng(settings.seed ^ 0xb0c1edull, i);
-    const bool front = sideEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng);
-    const bool back = sideEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
+    const bool front = isEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng);
+    const bool back = isEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
     surfels.enclosedSides[i] = static_cast<uint8_t>((front ? 1u : 0u) | (back ? 2u : 0u));
   });
   std::vector<uint32_t> keep;

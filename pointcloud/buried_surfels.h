@@ -11,8 +11,15 @@
 // may curve away from it or end at a corner, so the disks of a convex surface stick out
 // past it, and a gather ray from the surface itself can meet the inner side of a
 // neighbour's disk: on a column, the inside of the shaft, which is black.
+//
+// The probes cannot tell a solid from a closed room smaller than the reach: the walls of
+// such a room look enclosed from inside. A side that `viewpoint` (a point in open space,
+// the camera) sees directly is open whatever the probes say, so the room the camera is in
+// is always kept; a closed room elsewhere smaller than the reach in every direction is not
+// (keep `reach` below room sizes, or 0).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "pointcloud/surfels.h"
 #include "src/geometry/ray_tracer.h"
@@ -23,6 +30,7 @@ struct BuriedSurfelSettings {
   float reach = 0.0f;  // scene units, > 0: e.g. twice the surfel spacing
   int raysPerSide = 16;
   uint64_t seed = 1;
+  std::optional<Vec3> viewpoint;  // a point known to be in open space
 };
 
 // Marks the enclosed sides of every surfel and removes the surfels enclosed on both sides

@@ -61,7 +61,8 @@ void removeBuried(const RenderContext& ctx, float spacing, SurfelSet& surfels, R
   const float reach = ctx.scene.pointcloud.burialReach * spacing;
   if (!(reach > 0.0f) || surfels.size() == 0) return;
   report.add("buried_surfels",
-             removeBuriedSurfels(surfels, ctx.tracer, {reach, 16, ctx.scene.render.seed}));
+             removeBuriedSurfels(surfels, ctx.tracer,
+                                 {reach, 16, ctx.scene.render.seed, ctx.scene.camera.position}));
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on

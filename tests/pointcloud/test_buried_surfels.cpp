@@ -29,7 +29,7 @@ TEST(BuriedSurfels, TheFacesInsideAnOverlappingSolidGoAndNothingElse) {
   SurfelSet s = sampleSurfelsUniform(mesh, {Material{}}, {0.02f, 1.15f, 3});
   RayTracer tracer(mesh);
   SurfelSet before = s;
-  const size_t removed = removeBuriedSurfels(s, tracer, {2.0f, 16, 1});
+  const size_t removed = removeBuriedSurfels(s, tracer, {2.0f, 16, 1, {}});
   size_t buried = 0, kept = 0;
   for (size_t i = 0; i < before.size(); ++i) {
     const Vec3& p = before.position[i];
@@ -65,8 +65,30 @@ TEST(BuriedSurfels, OpenAndConcaveSurfacesKeepEverySurfel) {
   test::addBox(mesh, Vec3(0.8f, 0.0f, 0.8f), Vec3(1.2f, 0.4f, 1.2f), 0);
   SurfelSet s = sampleSurfelsUniform(mesh, {Material{}}, {0.05f, 1.15f, 3});
   const size_t n = s.size();
-  EXPECT_EQ(removeBuriedSurfels(s, RayTracer(mesh), {0.2f, 16, 1}), 0u);
+  EXPECT_EQ(removeBuriedSurfels(s, RayTracer(mesh), {0.2f, 16, 1, {}}), 0u);
   EXPECT_EQ(s.size(), n);
+}
+
+TEST(BuriedSurfels, TheRoomTheCameraIsInIsOpen) {
+  // A closed 1 m room at spacing 0.25 with reach 2: every probe from a wall hits another
+  // wall within the reach, so without a viewpoint the room looks like a solid and its
+  // surfels go. The camera inside sees every wall, so with it nothing goes and no side
+  // facing the room is marked (the outer sides of the closed room are enclosed only if
+  // probes outside hit something: here they escape).
+  TriangleMesh mesh;
+  test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
+  const RayTracer tracer(mesh);
+  SurfelSet blind = sampleSurfelsUniform(mesh, {Material{}}, {0.25f, 1.15f, 5});
+  const size_t n = blind.size();
+  EXPECT_EQ(removeBuriedSurfels(blind, tracer, {2.0f, 16, 1, {}}), 0u);  // outer sides are open
+  size_t innerMarked = 0;
+  for (uint8_t sides : blind.enclosedSides) innerMarked += (sides & 1u) != 0;  // normals inward
+  EXPECT_EQ(innerMarked, n);
+  SurfelSet seen = sampleSurfelsUniform(mesh, {Material{}}, {0.25f, 1.15f, 5});
+  BuriedSurfelSettings settings{2.0f, 16, 1, {}};
+  settings.viewpoint = Vec3(0.5f, 0.4f, 0.6f);
+  EXPECT_EQ(removeBuriedSurfels(seen, tracer, settings), 0u);
+  for (uint8_t sides : seen.enclosedSides) ASSERT_EQ(sides & 1u, 0u);
 }
 
 TEST(BuriedSurfels, GatherRaysPassTheInsideOfSolids) {
@@ -83,7 +105,7 @@ TEST(BuriedSurfels, GatherRaysPassTheInsideOfSolids) {
     SurfelSet s = sampleSurfelsUniform(mesh, {Material{}}, {0.1f, 1.15f, 5});
     const size_t n = s.size();
     if (markEnclosed) {
-      EXPECT_EQ(removeBuriedSurfels(s, tracer, {2.0f, 16, 1}), 0u);
+      EXPECT_EQ(removeBuriedSurfels(s, tracer, {2.0f, 16, 1, {}}), 0u);
     }
     EXPECT_EQ(s.size(), n);
     PointCloud pc(std::move(s), {});
