@@ -9,9 +9,11 @@
 // (the exact RTE solution across a homogeneous cube).
 #include <cstdint>
 
+#include "pointcloud/surfel_lookup.h"
 #include "pointcloud/traversal.h"
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
+#include "src/geometry/ray_tracer.h"
 
 namespace lvox {
 
@@ -22,6 +24,11 @@ struct GatherOptions {
   float rayOffset = 1e-4f;           // ray tmin, scene units: skips the receiver's own disks
   RGB background{0, 0, 0};           // radiance of rays that leave the cloud
   float minTransmittance = 1e-4f;
+  // Visibility by ray tracing (both set): a gather ray finds its surface with `tracer`
+  // and takes the radiance of the nearest surfel there (`lookup`); the octree only adds
+  // the lvoxels in front. Unset: the first surfel disk the traversal meets (Gibson).
+  const RayTracer* tracer = nullptr;
+  const SurfelLookup* lookup = nullptr;
 };
 
 // Follows one gather ray through the elements the traversal visits and hands the sink
@@ -98,8 +105,26 @@ template <class Sink>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
                     float scale, TraversalScratch& scratch, Sink& sink) {
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance};
-  traverse(cloud, ray, weights,
-           TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
+  if (!options.tracer || !options.lookup) {
+    traverse(cloud, ray, weights,
+             TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
+  } else {
+    // The receiver sits on a real surface: a few epsilons keep it from hitting itself.
+    Ray traced = ray;
+    traced.tmin = 4.0f * options.tracer->epsilon();
+    SurfaceHit hit;
+    const bool hitSurface = options.tracer->intersect(traced, hit);
+    traced.tmax = hitSurface ? hit.t : kInf;
+    traverse(cloud, traced, weights,
+             TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle, false}, scratch);
+    const long surfel = hitSurface ? options.lookup->nearest(hit.point, hit.normal) : -1;
+    if (maxComponent(weights.transmittance) >= options.minTransmittance && surfel >= 0) {
+      const auto i = static_cast<uint32_t>(surfel);
+      weights.surfel(i, hit.t, dot(cloud.surfels().normal[i], ray.dir) < 0.0f);
+    } else if (hitSurface) {
+      weights.opaqueHit = true;
+    }
+  }
   if (!weights.opaqueHit && maxComponent(weights.transmittance) >= options.minTransmittance)
     sink.addBackground(weights.transmittance * scale);
 }

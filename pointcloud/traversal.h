@@ -34,6 +34,9 @@ struct TraversalOptions {
   // proxies conserve the extinction cross-section exactly, while surfel proxies average
   // the two sides of closed geometry, so media can use clusters where surfaces do not.
   float maxLvoxelSolidAngle = 0.0f;
+  // False: surfels and their clusters are not tested (lvoxels only), for rays whose
+  // surface hit comes from ray tracing the real geometry.
+  bool surfels = true;
 };
 
 struct TraversalStats {
@@ -67,7 +70,7 @@ inline void pushEntry(std::vector<TraversalEntry>& heap, const TraversalEntry& e
 }
 
 inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOptions& o) {
-  const float maxAngle = node.surfelEnd > node.surfelBegin
+  const float maxAngle = o.surfels && node.surfelEnd > node.surfelBegin
                              ? o.maxSolidAngle
                              : std::max(o.maxSolidAngle, o.maxLvoxelSolidAngle);
   if (maxAngle <= 0.0f || node.elementCount() <= 1) return false;
@@ -77,7 +80,7 @@ inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOp
 }
 
 inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ray& ray,
-                         std::vector<TraversalEntry>& heap) {
+                         bool surfels, std::vector<TraversalEntry>& heap) {
   const OctreeNode& node = pc.nodes()[n];
   if (node.lvoxelEnd > node.lvoxelBegin) {
     const LvoxelCluster& c = pc.lvoxelClusters()[n];
@@ -85,7 +88,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
     if (intersectCube(ray, c.centroid, c.halfSize, t0, t1))
       pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
   }
-  if (node.surfelEnd > node.surfelBegin) {
+  if (surfels && node.surfelEnd > node.surfelBegin) {
     const SurfelCluster& c = pc.surfelClusters()[n];
     float t0, t1;
     if (c.cover.intersect(ray, t0, t1)) {
@@ -97,10 +100,10 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
   }
 }
 
-inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& ray,
+inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& ray, bool surfels,
                              TraversalScratch& s) {
   const SurfelSet& sf = pc.surfels();
-  for (uint32_t i = node.surfelBegin; i < node.surfelEnd; ++i) {
+  for (uint32_t i = node.surfelBegin; surfels && i < node.surfelEnd; ++i) {
     ++s.stats.elementsTested;
     float t;
     bool front;
@@ -140,10 +143,11 @@ void traverse(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOp
       case HitKind::Node: {
         ++scratch.stats.nodesPopped;
         const OctreeNode& node = nodes[e.id];
+        if (!options.surfels && node.lvoxelEnd == node.lvoxelBegin) break;
         if (detail::useCluster(node, ray, options)) {
-          detail::pushClusters(pc, e.id, e.key, ray, heap);
+          detail::pushClusters(pc, e.id, e.key, ray, options.surfels, heap);
         } else if (node.isLeaf()) {
-          detail::pushLeafElements(pc, node, ray, scratch);
+          detail::pushLeafElements(pc, node, ray, options.surfels, scratch);
         } else {
           for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
             if (nodes[c].bounds.intersect(ray, t0, t1))

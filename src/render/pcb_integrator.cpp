@@ -29,7 +29,9 @@ float surfelSpacing(const Scene& scene) {
   return std::sqrt(totalArea(scene.mesh) / static_cast<float>(scene.pointcloud.targetSurfels));
 }
 
-GatherOptions gatherOptions(const Scene& scene, float spacing, int samples) {
+GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache, float spacing,
+                            int samples) {
+  const Scene& scene = ctx.scene;
   GatherOptions o;
   o.samples = samples;
   o.maxSolidAngle = scene.pointcloud.clusterSolidAngle;
@@ -41,6 +43,10 @@ GatherOptions gatherOptions(const Scene& scene, float spacing, int samples) {
   o.rayOffset = 0.25f * spacing;
   // Light from the environment is in the direct caches already.
   o.background = RGB(0.0f);
+  if (cache.lookup) {
+    o.tracer = &ctx.tracer;
+    o.lookup = cache.lookup.get();
+  }
   return o;
 }
 
@@ -142,6 +148,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   {
     PhaseTimer timer(report, "octree_build");
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels));
+    if (scene.pointcloud.gatherVisibility == "rays")
+      cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
   }
   rte::SolveCounts counts;
   {
@@ -152,9 +160,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   if (passes > 0) {
     PhaseTimer timer(report, "interreflection");
     const GatherOptions surfelOptions =
-        gatherOptions(scene, spacing, scene.pointcloud.surfelGatherSamples);
+        gatherOptions(ctx, cache, spacing, scene.pointcloud.surfelGatherSamples);
     GatherOptions lvoxelOptions =
-        gatherOptions(scene, spacing, scene.pointcloud.lvoxelGatherSamples);
+        gatherOptions(ctx, cache, spacing, scene.pointcloud.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
     const InterreflectionStats stats = cacheInterreflection(
         *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, scene.render.seed);
@@ -168,7 +176,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   reportCloud(cache, spacing, report);
   if (scene.pointcloud.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
-    const GatherOptions options = gatherOptions(scene, spacing, scene.pointcloud.gatherSamples);
+    const GatherOptions options =
+        gatherOptions(ctx, cache, spacing, scene.pointcloud.gatherSamples);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, scene.pointcloud.gatherSpacing,
                                  scene.pointcloud.gatherFilter, scene.render.seed);
     report.add("grid_gathers", cache.gathers.pointCount());
@@ -182,7 +191,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                         const PointBasedCache& cache, int spp, SamplerCounters& counters) {
   const Scene& scene = ctx.scene;
   const int perSample = std::max(1, scene.pointcloud.gatherSamples / std::max(1, spp));
-  const GatherOptions options = gatherOptions(scene, surfelSpacing(scene), perSample);
+  const GatherOptions options = gatherOptions(ctx, cache, surfelSpacing(scene), perSample);
   return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng) {
     const Scene& sc = ctx.scene;
     const float px = static_cast<float>(x) + rng.uniform();

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "pointcloud/point_cloud.h"
+#include "pointcloud/surfel_lookup.h"
 #include "src/render/indirect_grid.h"
 #include "src/render/lvoxel_field.h"
 #include "src/render/render_context.h"
@@ -24,6 +25,7 @@ struct PointBasedCache {
   LvoxelField field;     // light on the lvoxel grid; empty without lvoxels
   bool lvoxels = false;  // pcb mode in a scene with media
   IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
+  std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };
 
 // Phase 1. Records times, counts and memory in the report.

@@ -97,20 +97,21 @@ struct VolumeIntegratorSettings {
 };
 
 struct PointCloudSettings {
-  float surfelSpacing = 0.0f;             // 0: derived from the total surface area
-  int targetSurfels = 100000;             // used to derive the spacing when it is 0
-  std::string surfelSampler = "uniform";  // uniform | camera
-  float lvoxelSpacing = 0.0f;             // 0: derived from the medium size
-  int lvoxelSamples = 2;                  // jittered samples per axis averaged per lvoxel
-  int lvoxelGatherSamples = 16;           // sphere rays per lvoxel and scattering pass
-  int bounces = 24;                       // interreflection passes (surfels and lvoxels)
-  float burialReach = 4.0f;               // surfel spacings; 0 keeps buried surfels
-  int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
-  int gatherSamples = 64;                 // gather rays per pixel (split over its samples)
-  int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
-  float gatherFilter = 3.0f;              // tent half-width over final gathers, in gathers
-  float lvoxelClusterSolidAngle = 0.03f;  // sr; the same for nodes holding lvoxels only
-  float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
+  float surfelSpacing = 0.0f;              // 0: derived from the total surface area
+  int targetSurfels = 100000;              // used to derive the spacing when it is 0
+  std::string surfelSampler = "uniform";   // uniform | camera
+  float lvoxelSpacing = 0.0f;              // 0: derived from the medium size
+  int lvoxelSamples = 2;                   // jittered samples per axis averaged per lvoxel
+  int lvoxelGatherSamples = 16;            // sphere rays per lvoxel and scattering pass
+  int bounces = 24;                        // interreflection passes (surfels and lvoxels)
+  float burialReach = 4.0f;                // surfel spacings; 0 keeps buried surfels
+  std::string gatherVisibility = "cloud";  // cloud (first surfel disk) | rays (ray traced)
+  int surfelGatherSamples = 4;             // hemisphere rays per surfel side and pass
+  int gatherSamples = 64;                  // gather rays per pixel (split over its samples)
+  int gatherSpacing = 4;                   // pixels between final gathers; 1: every camera hit
+  float gatherFilter = 3.0f;               // tent half-width over final gathers, in gathers
+  float lvoxelClusterSolidAngle = 0.03f;   // sr; the same for nodes holding lvoxels only
+  float clusterSolidAngle = 0.0f;          // sr; 0 = every element exactly
 };
 
 struct RenderSettings {

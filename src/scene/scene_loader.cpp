@@ -282,6 +282,9 @@ void parsePointCloud(JsonObject p, PointCloudSettings& s) {
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
+  s.gatherVisibility = p.string("gather_visibility", s.gatherVisibility);
+  if (s.gatherVisibility != "cloud" && s.gatherVisibility != "rays")
+    p.fail("gather_visibility", "unknown visibility '" + s.gatherVisibility + "' (cloud, rays)");
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
   s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
   s.surfelSampler = p.string("surfel_sampler", s.surfelSampler);

@@ -50,6 +50,15 @@ TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
   const RGB full = render(withMode("pcb"), fullReport).image.at(0, 0);
   EXPECT_EQ(fullReport.counts["lvoxels"], 0u);
   EXPECT_EQ(full, pcb);
+  // Visibility by ray tracing, radiance from the cloud: the same bleeding.
+  std::string traced = withMode("pcb");
+  const std::string bounces = "\"bounces\": 0";
+  traced.replace(traced.find(bounces), bounces.size(),
+                 bounces + ", \"gather_visibility\": \"rays\"");
+  Report tracedReport;
+  const RGB rays = render(traced, tracedReport).image.at(0, 0);
+  EXPECT_NEAR(rays.x - rays.y, mc.x - mc.y, 0.05f * (mc.x - mc.y));
+  EXPECT_NEAR(rays.y, mc.y, 0.02f * mc.y);
 }
 
 }  // namespace

@@ -92,6 +92,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
   expectError(withPointCloud("\"gather_filter\": 0.5"), {"pointcloud.gather_filter", "outside"});
   expectError(withPointCloud("\"burial_reach\": -1"), {"pointcloud.burial_reach", "outside"});
   expectError(withPointCloud("\"bounces\": 5000"), {"pointcloud.bounces", "outside"});
+  expectError(withPointCloud("\"gather_visibility\": \"exact\""),
+              {"pointcloud.gather_visibility", "exact"});
 }
 
 TEST(SceneLoader, UnknownKeysAreErrors) {
