@@ -26,7 +26,8 @@ struct GatherOptions {
   float minTransmittance = 1e-4f;
   // Visibility by ray tracing (both set): a gather ray finds its surface with `tracer`
   // and takes the radiance of the nearest surfel there (`lookup`); the octree only adds
-  // the lvoxels in front. Unset: the first surfel disk the traversal meets (Gibson).
+  // the lvoxels in front; `rayOffset` is then replaced by a few tracer epsilons. Unset:
+  // the first surfel disk the traversal meets (Gibson).
   const RayTracer* tracer = nullptr;
   const SurfelLookup* lookup = nullptr;
 };
