@@ -57,7 +57,10 @@ long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
           }
         }
       }
-  return aligned >= 0 ? aligned : any;
+  // Cells farther than 2^20 apart share keys: a candidate from such a cell is not near.
+  const float reach2 = 4.0f * cell_ * cell_;
+  if (aligned >= 0 && bestAligned <= 4.0f * reach2) return aligned;
+  return bestAny <= reach2 ? any : -1;
 }
 
 }  // namespace lvox

@@ -15,8 +15,8 @@ class SurfelLookup {
   SurfelLookup() = default;
   SurfelLookup(const SurfelSet& surfels, float cell);
 
-  // The nearest surfel to p whose plane is within ~60 degrees of the surface normal n
-  // (either side), else the nearest at all; -1 when none is within a cell.
+  // The nearest surfel to p whose plane is within 60 degrees of the surface normal n
+  // (either side), else the nearest at all; -1 when none is within two cells.
   long nearest(const Vec3& p, const Vec3& n) const;
   bool empty() const { return order_.empty(); }
 
