@@ -15,18 +15,10 @@
 namespace lvox {
 namespace {
 
-float totalArea(const TriangleMesh& mesh) {
-  double area = 0.0;
-  for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const Vec3 a = mesh.vertex(t, 0);
-    area += 0.5 * length(cross(mesh.vertex(t, 1) - a, mesh.vertex(t, 2) - a));
-  }
-  return static_cast<float>(area);
-}
-
 float surfelSpacing(const Scene& scene) {
   if (scene.pointcloud.surfelSpacing > 0.0f) return scene.pointcloud.surfelSpacing;
-  return std::sqrt(totalArea(scene.mesh) / static_cast<float>(scene.pointcloud.targetSurfels));
+  return std::sqrt(static_cast<float>(scene.mesh.area()) /
+                   static_cast<float>(scene.pointcloud.targetSurfels));
 }
 
 GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache, float spacing,

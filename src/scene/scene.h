@@ -37,6 +37,13 @@ struct TriangleMesh {
   std::vector<uint32_t> triangleMaterial;  // 1 per triangle
   size_t triangleCount() const { return triangleMaterial.size(); }
   Vec3 vertex(size_t tri, int k) const { return positions[indices[3 * tri + k]]; }
+  // Sum of the triangles' areas, accumulated in double.
+  double area() const {
+    double a = 0.0;
+    for (size_t t = 0; t < triangleCount(); ++t)
+      a += 0.5 * length(cross(vertex(t, 1) - vertex(t, 0), vertex(t, 2) - vertex(t, 0)));
+    return a;
+  }
 };
 
 enum class LightType { Directional, Point, Spot, Environment };

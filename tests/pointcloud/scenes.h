@@ -29,13 +29,7 @@ inline void addBox(TriangleMesh& mesh, const Vec3& lo, const Vec3& hi, uint32_t 
   addQuad(mesh, p[1], p[5], p[6], p[2], m);  // x = hi
 }
 
-inline double meshArea(const TriangleMesh& mesh) {
-  double a = 0.0;
-  for (size_t t = 0; t < mesh.triangleCount(); ++t)
-    a += 0.5 * length(cross(mesh.vertex(t, 1) - mesh.vertex(t, 0),
-                            mesh.vertex(t, 2) - mesh.vertex(t, 0)));
-  return a;
-}
+inline double meshArea(const TriangleMesh& mesh) { return mesh.area(); }
 
 // UV sphere: many small, differently sized triangles.
 inline void addSphere(TriangleMesh& mesh, const Vec3& c, float r, int rings, int segments,

@@ -40,17 +40,9 @@ enum RayClass { kMiss, kNearer, kFarther, kSame, kClasses };
 const char* const kClassNames[kClasses] = {"cloud finds no disk", "cloud stops nearer",
                                            "cloud passes the surface", "same surface"};
 
-double area(const TriangleMesh& mesh) {
-  double a = 0.0;
-  for (size_t t = 0; t < mesh.triangleCount(); ++t)
-    a += 0.5 * length(cross(mesh.vertex(t, 1) - mesh.vertex(t, 0),
-                            mesh.vertex(t, 2) - mesh.vertex(t, 0)));
-  return a;
-}
-
 int run(const char* scenePath, int targetSurfels, float offset) {
   const Scene scene = loadScene(scenePath);
-  const float spacing = static_cast<float>(std::sqrt(area(scene.mesh) / targetSurfels));
+  const float spacing = static_cast<float>(std::sqrt(scene.mesh.area() / targetSurfels));
   const RayTracer tracer(scene.mesh);
   const LightSet lights(scene, scene.render.areaLightSamples);
   const RenderContext ctx{scene, tracer, lights};
