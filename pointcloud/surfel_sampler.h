@@ -5,7 +5,7 @@
 
 #include "pointcloud/surfels.h"
 #include "src/geometry/ray_tracer.h"
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 
 namespace lvox {
 

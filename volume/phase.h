@@ -4,33 +4,36 @@
 // along w_in that leaves along w_out has cosTheta = dot(w_in, w_out), so g > 0 scatters
 // forward.
 #include <string>
+#include <string_view>
 
-#include "src/core/error.h"
 #include "src/core/math.h"
+#include "src/core/names.h"
 
 namespace lvox {
 
 enum class PhaseKind { Isotropic, HenyeyGreenstein, Schlick };
+
+inline constexpr Named<PhaseKind> kPhaseNames[] = {{PhaseKind::Isotropic, "isotropic"},
+                                                   {PhaseKind::HenyeyGreenstein, "hg"},
+                                                   {PhaseKind::Schlick, "schlick"}};
+
+// "isotropic" | "hg" | "schlick"; throws InputError(file, field, ...) otherwise.
+inline PhaseKind parsePhaseKind(std::string_view name, const std::string& file,
+                                const std::string& field) {
+  return parseNamed(name, kPhaseNames, "phase function", file, field);
+}
 
 struct PhaseFunction {
   PhaseKind kind = PhaseKind::Isotropic;
   float g = 0.0f;
   float k = 0.0f;  // Schlick's parameter, fitted to g: k = 1.55 g - 0.55 g^3
 
-  static PhaseFunction make(const std::string& name, float g) {
+  // g = 0 is isotropic whatever the kind.
+  static PhaseFunction make(PhaseKind kind, float g) {
     PhaseFunction p;
-    p.g = g;
-    if (name == "isotropic" || g == 0.0f) {
-      p.kind = PhaseKind::Isotropic;
-      p.g = 0.0f;
-    } else if (name == "hg") {
-      p.kind = PhaseKind::HenyeyGreenstein;
-    } else if (name == "schlick") {
-      p.kind = PhaseKind::Schlick;
-      p.k = 1.55f * g - 0.55f * g * g * g;
-    } else {
-      throw InputError("phase", name, "unknown phase function (isotropic, hg, schlick)");
-    }
+    p.kind = g == 0.0f ? PhaseKind::Isotropic : kind;
+    p.g = p.kind == PhaseKind::Isotropic ? 0.0f : g;
+    if (p.kind == PhaseKind::Schlick) p.k = 1.55f * g - 0.55f * g * g * g;
     return p;
   }
 

@@ -26,7 +26,7 @@ struct RenderFlags {
   std::optional<std::string> mode;
   std::optional<int> spp;
   std::optional<int> maxBounces;
-  std::optional<uint64_t> seed;
+  std::optional<int64_t> seed;
   std::optional<int> threads;
   std::optional<int> width, height;
   std::optional<std::string> solver;
@@ -55,17 +55,23 @@ void writeConvergenceCsv(const std::string& path, const std::vector<ConvergenceP
   });
 }
 
-void applyOverrides(const RenderFlags& f, Scene& scene) {
-  if (f.mode) scene.render.mode = *f.mode;
-  if (f.spp) scene.render.spp = *f.spp;
-  if (f.maxBounces) scene.render.maxBounces = *f.maxBounces;
-  if (f.seed) scene.render.seed = *f.seed;
-  if (f.threads) scene.render.threads = *f.threads;
-  if (f.width) scene.camera.width = *f.width;
-  if (f.height) scene.camera.height = *f.height;
-  if (f.solver) scene.volume.solver = *f.solver;
-  if (f.step) scene.volume.step = *f.step;
-  if (f.tolerance) scene.volume.tolerance = *f.tolerance;
+// The flags that set a scene field, as overrides the scene loader checks like the field.
+std::vector<SettingOverride> overrides(const RenderFlags& f) {
+  std::vector<SettingOverride> out;
+  auto add = [&](const char* flag, const char* section, const char* key, const auto& value) {
+    if (value) out.push_back({flag, section, key, *value});
+  };
+  add("--mode", "render", "mode", f.mode);
+  add("--spp", "render", "spp", f.spp);
+  add("--max-bounces", "render", "max_bounces", f.maxBounces);
+  add("--seed", "render", "seed", f.seed);
+  add("--threads", "render", "threads", f.threads);
+  add("--width", "camera", "width", f.width);
+  add("--height", "camera", "height", f.height);
+  add("--solver", "volume_integrator", "solver", f.solver);
+  add("--step", "volume_integrator", "step", f.step);
+  add("--tol", "volume_integrator", "tolerance", f.tolerance);
+  return out;
 }
 
 // The profiling lines of the point-based modes: phase times, element counts, memory.
@@ -95,17 +101,16 @@ void printPointCloudSummary(const Report& report) {
 }
 
 void printSummary(const Scene& scene, const Report& report, const std::string& output) {
+  const std::string mode(modeName(scene.render.mode));
   const double seconds = report.times.at("total");
   uint64_t rays = 0;
   for (const char* key : {"camera_rays", "shadow_rays", "gather_rays", "path_rays"})
     rays += report.count(key);
   std::fprintf(stderr, "lvox: %s %dx%d %s spp, %s mode: %.2f s, %.2f Mrays/s -> %s\n",
-               std::filesystem::path(scene.path).filename().c_str(), scene.camera.width,
-               scene.camera.height, report.settings.at("spp").c_str(), scene.render.mode.c_str(),
-               seconds, seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0,
-               output.c_str());
-  if (scene.render.mode == "pcb" || scene.render.mode == "pcb-surfels")
-    printPointCloudSummary(report);
+               std::filesystem::path(scene.path).filename().c_str(), scene.world.camera.width,
+               scene.world.camera.height, report.settings.at("spp").c_str(), mode.c_str(), seconds,
+               seconds > 0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0, output.c_str());
+  if (isPointBased(scene.render.mode)) printPointCloudSummary(report);
   if (const uint64_t invalid = report.count("invalid_samples"); invalid > 0)
     std::fprintf(stderr, "lvox: warning: %llu invalid (NaN/Inf/negative) samples were zeroed\n",
                  static_cast<unsigned long long>(invalid));
@@ -119,10 +124,9 @@ int runRender(const RenderFlags& flags) {
   Scene scene;
   {
     PhaseTimer timer(report, "scene_load");
-    scene = loadScene(flags.scene);
+    scene = loadScene(flags.scene, overrides(flags));
   }
-  applyOverrides(flags, scene);
-  validateMode(scene);
+  report.settings["scene"] = scene.path;
   RenderOutputs outputs(flags.output, flags.report, scene.inputFiles);
   RenderPlan plan;
   plan.spp = scene.render.spp;
@@ -134,12 +138,13 @@ int runRender(const RenderFlags& flags) {
       throw InputError(flags.convergenceReference, "--convergence", "needs --convergence-csv");
     checkOutputPath(flags.convergenceCsv, "--convergence-csv", scene.inputFiles);
     reference = readExr(flags.convergenceReference);
-    if (reference.width != scene.camera.width || reference.height != scene.camera.height)
+    if (reference.width != scene.world.camera.width ||
+        reference.height != scene.world.camera.height)
       throw InputError(flags.convergenceReference, "--convergence",
                        "has a different size than the scene's camera");
     plan.reference = &reference;
   }
-  RenderResult result = renderScene(scene, plan, report);
+  RenderResult result = renderScene(scene.job(), plan, report);
   Image& image = result.image;
   report.memory["peak_rss"] = peakRssBytes();
   report.times["total"] =
@@ -160,19 +165,17 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "Output EXR path (a PNG preview is written beside it)")
       ->required();
   cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
-  cmd->add_option("--mode", flags->mode, "pcb | pcb-surfels | direct | mc");
-  cmd->add_option("--spp", flags->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
-  cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path")
-      ->check(CLI::Range(0, 1 << 16));
+  // Flags that set scene fields are checked by the scene loader, exactly like the fields.
+  cmd->add_option("--mode", flags->mode, modeNames());
+  cmd->add_option("--spp", flags->spp, "Samples per pixel");
+  cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path");
   cmd->add_option("--seed", flags->seed, "Random seed");
-  cmd->add_option("--threads", flags->threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
-  cmd->add_option("--width", flags->width, "Image width")->check(CLI::Range(1, 16384));
-  cmd->add_option("--height", flags->height, "Image height")->check(CLI::Range(1, 16384));
+  cmd->add_option("--threads", flags->threads, "Worker threads (0: all cores)");
+  cmd->add_option("--width", flags->width, "Image width");
+  cmd->add_option("--height", flags->height, "Image height");
   cmd->add_option("--solver", flags->solver, "Volume solver: auto or a method (docs/solvers.md)");
-  cmd->add_option("--step", flags->step, "Volume step in scene units")->check(CLI::PositiveNumber);
-  cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--step", flags->step, "Volume step in scene units");
+  cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers");
   cmd->add_option("--first-sample", flags->firstSample,
                   "Index of the first sample: render chunk [first, first+spp) of a longer run");
   cmd->add_option("--time-limit", flags->timeLimit,

@@ -25,9 +25,11 @@
 #include "src/core/error.h"
 #include "src/core/image_io.h"
 #include "src/core/image_metrics.h"
+#include "src/core/names.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 #include "volume/rte/method.h"
+#include "volume/volume_settings.h"
 
 extern char** environ;
 
@@ -54,11 +56,39 @@ struct SweepFlags {
   bool quiet = false;
 };
 
+// A method of the sweep: a volume solver (empty: auto) of the scene's mode, or mc, the
+// path tracer at a number of samples per pixel.
+struct SweepMethod {
+  bool monteCarlo = false;
+  std::optional<rte::Method> solver;
+  std::string name() const {
+    return monteCarlo ? std::string(modeName(Mode::kMc)) : std::string(solverName(solver));
+  }
+};
+
+// "mc", "auto" or a solver name; throws InputError naming --methods.
+SweepMethod parseSweepMethod(const std::string& name) {
+  if (name == modeName(Mode::kMc)) return {true, std::nullopt};
+  return {false, parseSolver(name, "--methods", "")};
+}
+
+// The accuracy parameter a sweep varies.
+enum class Knob { kStep, kTolerance, kSpp };
+constexpr Named<Knob> kKnobNames[] = {
+    {Knob::kStep, "step"}, {Knob::kTolerance, "tol"}, {Knob::kSpp, "spp"}};
+
 // One render of the sweep: a method and the value of its accuracy parameter.
 struct SweepPoint {
-  std::string method;
-  std::string parameter;  // step | tol | spp
+  SweepMethod method;
+  Knob knob = Knob::kStep;
   double value = 0.0;
+};
+
+// The flags, parsed and checked before the scene is read.
+struct SweepPlan {
+  std::vector<SweepMethod> methods;
+  std::optional<rte::Method> referenceSolver;
+  std::vector<SettingOverride> overrides;
 };
 
 struct SweepRow {
@@ -69,19 +99,24 @@ struct SweepRow {
   bool paretoTime = false, paretoEvals = false;
 };
 
-std::vector<SweepPoint> plan(const SweepFlags& f, const Scene& scene) {
+// Every point's parameter passes the check of the scene field it sets.
+std::vector<SweepPoint> plan(const SweepFlags& f, const SweepPlan& sweep, const Scene& scene) {
   std::vector<SweepPoint> points;
-  for (const std::string& m : f.methods) {
-    if (m == "mc") {
-      for (int spp : f.mcSpp) points.push_back({m, "spp", static_cast<double>(spp)});
+  for (const SweepMethod& m : sweep.methods) {
+    if (m.monteCarlo) {
+      for (int spp : f.mcSpp) points.push_back({m, Knob::kSpp, static_cast<double>(spp)});
       continue;
     }
-    const bool tolerance =
-        m == "auto" || rte::isAdaptive(rte::parseMethod(m, "--methods", m, "auto"));
-    if (tolerance) {
-      for (float tol : f.tolerances) points.push_back({m, "tol", tol});
+    if (!m.solver || rte::isAdaptive(*m.solver)) {
+      for (float tol : f.tolerances) {
+        checkRange(tol, kToleranceRange, "--tols", "");
+        points.push_back({m, Knob::kTolerance, tol});
+      }
     } else {
-      for (float k : f.stepScales) points.push_back({m, "step", scene.volume.step * k});
+      for (float k : f.stepScales) {
+        checkRange(scene.volume.step * k, kStepRange, "--step-scales", "");
+        points.push_back({m, Knob::kStep, scene.volume.step * k});
+      }
     }
   }
   return points;
@@ -89,21 +124,22 @@ std::vector<SweepPoint> plan(const SweepFlags& f, const Scene& scene) {
 
 Scene configured(const Scene& base, const SweepPoint& p) {
   Scene s = base;
-  if (p.method == "mc") {
-    s.render.mode = "mc";
+  if (p.method.monteCarlo) {
+    s.render.mode = Mode::kMc;
     s.render.spp = static_cast<int>(p.value);
     return s;
   }
-  s.volume.solver = p.method;
-  if (p.parameter == "tol") s.volume.tolerance = static_cast<float>(p.value);
-  if (p.parameter == "step") s.volume.step = static_cast<float>(p.value);
+  s.volume.solver = p.method.solver;
+  if (p.knob == Knob::kTolerance) s.volume.tolerance = static_cast<float>(p.value);
+  if (p.knob == Knob::kStep) s.volume.step = static_cast<float>(p.value);
   return s;
 }
 
 SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& reference) {
   Report report;
   const auto start = std::chrono::steady_clock::now();
-  const Image image = renderScene(configured(scene, p), report);
+  const Scene point = configured(scene, p);
+  const Image image = renderScene(point.job(), report);
   SweepRow row;
   row.point = p;
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -113,7 +149,7 @@ SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& refer
   row.stabilityEvents = report.count("stability_events");
   row.capped = report.count("capped_segments");
   row.invalid = report.count("invalid_samples");
-  row.error = compareImages(image, reference, p.method, "reference");
+  row.error = compareImages(image, reference, p.method.name(), "reference");
   return row;
 }
 
@@ -130,20 +166,19 @@ void markPareto(std::vector<SweepRow>& rows, Cost cost, bool SweepRow::*flag) {
   }
 }
 
-std::string csvText(const std::string& sceneName, const std::string& mode,
-                    const std::vector<SweepRow>& rows) {
+std::string csvText(const std::string& sceneName, Mode mode, const std::vector<SweepRow>& rows) {
   std::ostringstream csv;
   csv.precision(7);
   csv << "scene,mode,method,parameter,value,seconds,medium_evals,solver_steps,rejected_steps,"
          "stability_events,capped_segments,invalid_samples,delta_percent,relmse,rmse,psnr_db,"
          "pareto_time,pareto_evals\n";
   for (const SweepRow& r : rows)
-    csv << sceneName << ',' << (r.point.method == "mc" ? "mc" : mode) << ',' << r.point.method
-        << ',' << r.point.parameter << ',' << r.point.value << ',' << r.seconds << ','
-        << r.mediumEvals << ',' << r.steps << ',' << r.rejected << ',' << r.stabilityEvents << ','
-        << r.capped << ',' << r.invalid << ',' << r.error.deltaPercent << ',' << r.error.relMse
-        << ',' << r.error.rmse << ',' << r.error.psnrDb << ',' << r.paretoTime << ','
-        << r.paretoEvals << '\n';
+    csv << sceneName << ',' << modeName(r.point.method.monteCarlo ? Mode::kMc : mode) << ','
+        << r.point.method.name() << ',' << nameOf(r.point.knob, kKnobNames) << ',' << r.point.value
+        << ',' << r.seconds << ',' << r.mediumEvals << ',' << r.steps << ',' << r.rejected << ','
+        << r.stabilityEvents << ',' << r.capped << ',' << r.invalid << ',' << r.error.deltaPercent
+        << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnrDb << ','
+        << r.paretoTime << ',' << r.paretoEvals << '\n';
   return csv.str();
 }
 
@@ -182,71 +217,80 @@ void plot(const std::string& csvPath, const std::string& pngPath, const std::str
                      "written, --no-plot skips the plot");
 }
 
-Image referenceImage(const SweepFlags& f, const Scene& scene, std::string& description) {
+Image referenceImage(const SweepFlags& f, const SweepPlan& sweep, const Scene& scene,
+                     std::string& description) {
+  const Camera& camera = scene.world.camera;
   if (!f.reference.empty()) {
     Image ref = readExr(f.reference);
-    if (ref.width != scene.camera.width || ref.height != scene.camera.height)
+    if (ref.width != camera.width || ref.height != camera.height)
       throw InputError(f.reference, "--reference",
                        "is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
-                           ", the sweep renders " + std::to_string(scene.camera.width) + "x" +
-                           std::to_string(scene.camera.height));
+                           ", the sweep renders " + std::to_string(camera.width) + "x" +
+                           std::to_string(camera.height));
     description = f.reference;
     return ref;
   }
   Scene fine = scene;
-  fine.volume.solver = f.referenceSolver;
+  fine.volume.solver = sweep.referenceSolver;
   fine.volume.step = scene.volume.step * f.referenceStepScale;
   fine.volume.tolerance = std::min(scene.volume.tolerance, 1e-6f);
   fine.volume.maxEvaluations = std::max(fine.volume.maxEvaluations, 10000000u);
+  checkRange(fine.volume.step, kStepRange, "--reference-step-scale", "");
   std::ostringstream d;
-  d << f.referenceSolver << " at step " << fine.volume.step;
+  d << solverName(sweep.referenceSolver) << " at step " << fine.volume.step;
   description = d.str();
   Report report;
-  return renderScene(fine, report);
+  return renderScene(fine.job(), report);
+}
+
+// Parses every flag that names a method or sets a scene field, before the scene is read.
+SweepPlan parseFlags(const SweepFlags& f) {
+  SweepPlan sweep;
+  for (const std::string& m : f.methods) {
+    sweep.methods.push_back(parseSweepMethod(m));
+    if (sweep.methods.back().monteCarlo && f.mcSpp.empty())
+      throw InputError("--methods", "", "mc needs --mc-spp");
+  }
+  sweep.referenceSolver = parseSolver(f.referenceSolver, "--reference-solver", "");
+  auto add = [&](const char* flag, const char* section, const char* key, const auto& value) {
+    if (value) sweep.overrides.push_back({flag, section, key, *value});
+  };
+  add("--mode", "render", "mode", f.mode);
+  add("--spp", "render", "spp", f.spp);
+  add("--threads", "render", "threads", f.threads);
+  add("--width", "camera", "width", f.width);
+  add("--height", "camera", "height", f.height);
+  return sweep;
 }
 
 int runSweep(const SweepFlags& f) {
-  Scene scene = loadScene(f.scene);
-  if (f.mode) scene.render.mode = *f.mode;
-  if (f.width) scene.camera.width = *f.width;
-  if (f.height) scene.camera.height = *f.height;
-  if (f.spp) scene.render.spp = *f.spp;
-  if (f.threads) scene.render.threads = *f.threads;
-  validateMode(scene);
-  if (scene.render.mode == "mc")
-    throw InputError(f.scene, "--mode",
+  const SweepPlan sweep = parseFlags(f);
+  Scene scene = loadScene(f.scene, sweep.overrides);
+  if (scene.render.mode == Mode::kMc)
+    throw InputError(f.mode ? "--mode" : f.scene, f.mode ? "" : "render.mode",
                      "the sweep compares solvers: use direct, pcb or pcb-surfels");
   if (!fs::is_directory(f.outDir))
     throw InputError(f.outDir, "--output", "is not an existing directory");
-  auto requirePositive = [&](const std::vector<float>& values, const std::string& flag) {
-    for (float v : values)
-      if (!(v > 0.0f) || !std::isfinite(v))
-        throw InputError(f.scene, flag, "values must be finite and > 0");
-  };
-  requirePositive(f.stepScales, "--step-scales");
-  requirePositive(f.tolerances, "--tols");
-  requirePositive({f.referenceStepScale}, "--reference-step-scale");
-  for (const std::string& m : f.methods)
-    if (m == "mc" && f.mcSpp.empty()) throw InputError(f.scene, "--methods", "mc needs --mc-spp");
-  const std::vector<SweepPoint> points = plan(f, scene);
+  const std::vector<SweepPoint> points = plan(f, sweep, scene);
   const std::string csvPath = (fs::path(f.outDir) / "sweep.csv").string();
   const std::string pngPath = (fs::path(f.outDir) / "sweep.png").string();
   checkOutputPath(csvPath, "--output", scene.inputFiles);
 
   std::string refDescription;
-  const Image reference = referenceImage(f, scene, refDescription);
+  const Image reference = referenceImage(f, sweep, scene, refDescription);
+  const std::string mode(modeName(scene.render.mode));
   if (!f.quiet)
     std::fprintf(stderr, "lvox sweep: %zu renders of %s (%s mode) against %s\n", points.size(),
-                 fs::path(f.scene).filename().c_str(), scene.render.mode.c_str(),
-                 refDescription.c_str());
+                 fs::path(f.scene).filename().c_str(), mode.c_str(), refDescription.c_str());
   std::vector<SweepRow> rows;
   for (const SweepPoint& p : points) {
     rows.push_back(renderPoint(scene, p, reference));
     const SweepRow& r = rows.back();
     if (!f.quiet)
       std::fprintf(stderr, "  %-16s %s %-9.4g %8.3f s %13llu evals  delta %.4f %%\n",
-                   p.method.c_str(), p.parameter.c_str(), p.value, r.seconds,
-                   static_cast<unsigned long long>(r.mediumEvals), r.error.deltaPercent);
+                   p.method.name().c_str(), std::string(nameOf(p.knob, kKnobNames)).c_str(),
+                   p.value, r.seconds, static_cast<unsigned long long>(r.mediumEvals),
+                   r.error.deltaPercent);
   }
   markPareto(
       rows, [](const SweepRow& r) { return r.seconds; }, &SweepRow::paretoTime);
@@ -257,8 +301,8 @@ int runSweep(const SweepFlags& f) {
   writeText(csvPath, csvText(name, scene.render.mode, rows));
   if (f.plot)
     plot(csvPath, pngPath,
-         name + " (" + scene.render.mode + ", " + std::to_string(scene.camera.width) + "x" +
-             std::to_string(scene.camera.height) + ", " + std::to_string(scene.render.spp) +
+         name + " (" + mode + ", " + std::to_string(scene.world.camera.width) + "x" +
+             std::to_string(scene.world.camera.height) + ", " + std::to_string(scene.render.spp) +
              " spp) vs " + refDescription);
   if (!f.quiet) std::fprintf(stderr, "lvox sweep: wrote %s\n", csvPath.c_str());
   return 0;
@@ -278,11 +322,8 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
       ->delimiter(',');
   cmd->add_option("--step-scales", f->stepScales,
                   "Fixed-step methods: multiples of the scene's step")
-      ->delimiter(',')
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--tols", f->tolerances, "Adaptive methods and auto: tolerances")
-      ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->delimiter(',');
+  cmd->add_option("--tols", f->tolerances, "Adaptive methods and auto: tolerances")->delimiter(',');
   cmd->add_option("--mc-spp", f->mcSpp, "Monte Carlo: samples per pixel")
       ->delimiter(',')
       ->check(CLI::Range(1, 1 << 20));
@@ -291,15 +332,12 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--reference-solver", f->referenceSolver, "Solver of the fine reference");
   cmd->add_option("--reference-step-scale", f->referenceStepScale,
-                  "Step of the fine reference as a multiple of the scene's step")
-      ->check(CLI::PositiveNumber);
+                  "Step of the fine reference as a multiple of the scene's step");
   cmd->add_option("--mode", f->mode, "direct | pcb | pcb-surfels");
-  cmd->add_option("--width", f->width, "Image width")->check(CLI::Range(1, 16384));
-  cmd->add_option("--height", f->height, "Image height")->check(CLI::Range(1, 16384));
-  cmd->add_option("--spp", f->spp, "Samples per pixel of the solver renders")
-      ->check(CLI::Range(1, 1 << 20));
-  cmd->add_option("--threads", f->threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--width", f->width, "Image width");
+  cmd->add_option("--height", f->height, "Image height");
+  cmd->add_option("--spp", f->spp, "Samples per pixel of the solver renders");
+  cmd->add_option("--threads", f->threads, "Worker threads (0: all cores)");
   cmd->add_flag("!--no-plot", f->plot, "Write only the CSV");
   cmd->add_flag("-q,--quiet", f->quiet, "No progress lines");
   cmd->callback([f, &exitCode]() { exitCode = runSweep(*f); });

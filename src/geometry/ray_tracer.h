@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 
 namespace lvox {
 

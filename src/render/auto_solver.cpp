@@ -86,10 +86,10 @@ void coneCrossings(const Ray& ray, const Vec3& apex, const Vec3& axis, float cos
   }
 }
 
-AutoSolver::AutoSolver(const Scene& scene, const MediaSet& media,
+AutoSolver::AutoSolver(const std::vector<Light>& lights, const MediaSet& media,
                        const rte::SolveSettings<float>& base)
     : media_(media), base_(base) {
-  for (const Light& l : scene.lights) {
+  for (const Light& l : lights) {
     if (l.type != LightType::Point && l.type != LightType::Spot) continue;
     pointSources_.push_back({l.position, maxComponent(l.intensity)});
     if (l.type != LightType::Spot) continue;

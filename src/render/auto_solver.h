@@ -23,7 +23,7 @@
 //   - Empty space costs nothing: only the media's occupied intervals are integrated.
 #include <vector>
 
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 #include "volume/media/media_set.h"
 #include "volume/rte/settings.h"
 
@@ -44,7 +44,8 @@ class AutoSolver {
   static constexpr rte::Method kHeterogeneousMethod = rte::Method::kDopri5;
   static constexpr rte::Method kShadowMethod = rte::Method::kRk4;
 
-  AutoSolver(const Scene& scene, const MediaSet& media, const rte::SolveSettings<float>& base);
+  AutoSolver(const std::vector<Light>& lights, const MediaSet& media,
+             const rte::SolveSettings<float>& base);
 
   // A camera-ray segment [t0, t1] inside one merged medium interval (emission and
   // in-scattering as the source).

@@ -16,15 +16,15 @@ void addSolveCounts(SamplerCounters& counters, const rte::SolveCounts& c) {
 PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volume,
                            SamplerCounters& counters) {
   return [&ctx, &volume, &counters](int x, int y, Rng& rng) {
-    const Scene& scene = ctx.scene;
-    const Ray ray = scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
+    const World& world = ctx.world;
+    const Ray ray = world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
                                              static_cast<float>(y) + rng.uniform());
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     RGB behind = ctx.lights.environment();
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (hitSurface) {
-      const Material& m = scene.materials[scene.mesh.triangleMaterial[hit.triangle]];
+      const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;
       auto throughMedia = [&](const Ray& shadow) {
         return volume.transmittance(shadow, solveCounts);

@@ -18,7 +18,7 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
                            const GatherOptions& options, int spacing, float filterRadius,
                            uint64_t seed)
     : spacing_(std::max(1, spacing)), filterRadius_(std::max(1.0f, filterRadius)) {
-  const Camera& camera = ctx.scene.camera;
+  const Camera& camera = ctx.world.camera;
   // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
   // every pixel lies between grid points.
   nx_ = (camera.width - 1) / spacing_ + 2;

@@ -4,17 +4,17 @@
 
 namespace lvox {
 
-LightSet::LightSet(const Scene& scene, int areaSamples)
-    : scene_(scene), areaSamples_(std::max(1, areaSamples)) {
-  for (const Light& l : scene.lights) {
+LightSet::LightSet(const World& world, int areaSamples)
+    : world_(world), areaSamples_(std::max(1, areaSamples)) {
+  for (const Light& l : world.lights) {
     if (l.type == LightType::Environment)
       environment_ += l.intensity;
     else
       lights_.push_back(l);
   }
-  const TriangleMesh& mesh = scene.mesh;
+  const TriangleMesh& mesh = world.mesh;
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    if (!scene.materials[mesh.triangleMaterial[t]].isEmissive()) continue;
+    if (!world.materials[mesh.triangleMaterial[t]].isEmissive()) continue;
     const Vec3 a = mesh.vertex(t, 0);
     const float area = 0.5f * length(cross(mesh.vertex(t, 1) - a, mesh.vertex(t, 2) - a));
     emissiveTriangles_.push_back(static_cast<uint32_t>(t));
@@ -49,7 +49,7 @@ LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
       static_cast<size_t>(std::lower_bound(areaCdf_.begin(), areaCdf_.end(), u) - areaCdf_.begin()),
       emissiveTriangles_.size() - 1);
   const uint32_t tri = emissiveTriangles_[i];
-  const TriangleMesh& mesh = scene_.mesh;
+  const TriangleMesh& mesh = world_.mesh;
   const Vec3 a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
   float b1, b2;
   uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
@@ -62,7 +62,7 @@ LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
   const Vec3 n = normalize(cross(b - a, c - a));
   const float cosLight = std::abs(dot(n, s.wi));  // emitters are two-sided
   // Area pdf 1/A over all emitters, converted to solid angle: d^2 / (A cos).
-  s.radiance = scene_.materials[mesh.triangleMaterial[tri]].emission * (cosLight * totalArea_ / d2);
+  s.radiance = world_.materials[mesh.triangleMaterial[tri]].emission * (cosLight * totalArea_ / d2);
   s.fromEmitter = true;
   s.pdf = areaPdf(s.distance, cosLight);
   return s;

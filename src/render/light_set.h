@@ -5,7 +5,7 @@
 
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 
 namespace lvox {
 
@@ -23,7 +23,7 @@ struct LightSample {
 
 class LightSet {
  public:
-  LightSet(const Scene& scene, int areaSamples);
+  LightSet(const World& world, int areaSamples);
 
   // Calls f(sample) for each light sample seen from `p`. Delta lights give one sample
   // each; area and environment lights give `areaSamples` samples each, weighted 1/N.
@@ -56,7 +56,7 @@ class LightSet {
   }
 
  private:
-  const Scene& scene_;
+  const World& world_;
   std::vector<Light> lights_;  // point, spot, directional
   RGB environment_{0.0f};
   std::vector<uint32_t> emissiveTriangles_;

@@ -176,8 +176,8 @@ Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd,
 // surfaceNee; escaping continuation rays add nothing (the environment is NEE only).
 RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
               PathCounters& counters) {
-  const Scene& scene = ctx.scene;
-  const int maxEvents = scene.render.maxBounces;
+  const World& world = ctx.world;
+  const int maxEvents = ctx.settings.maxBounces;
   RGB radiance(0.0f), throughput(1.0f);
   float bsdfPdf = 0.0f;  // solid-angle pdf of the surface continuation being traced (0: none)
   const bool media = !tracker.media().empty();
@@ -214,7 +214,7 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
       if (event == 1) radiance += throughput * ctx.lights.environment();
       break;
     }
-    const Material& m = scene.materials[scene.mesh.triangleMaterial[hit.triangle]];
+    const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
     if (event == 1) {
       radiance += throughput * m.emission;
     } else if (m.isEmissive() && bsdfPdf > 0.0f) {
@@ -246,7 +246,7 @@ PixelSampler monteCarloSampler(const RenderContext& neeCtx, const MajorantTracke
                                SamplerCounters& counters) {
   return [&neeCtx, &tracker, &counters](int x, int y, Rng& rng) {
     PathCounters local;
-    const Ray ray = neeCtx.scene.camera.generateRay(static_cast<float>(x) + rng.uniform(),
+    const Ray ray = neeCtx.world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
                                                     static_cast<float>(y) + rng.uniform());
     const RGB l = tracePath(neeCtx, tracker, ray, rng, local);
     counters.pathRays.fetch_add(local.rays, std::memory_order_relaxed);

@@ -15,19 +15,18 @@
 namespace lvox {
 namespace {
 
-float surfelSpacing(const Scene& scene) {
-  if (scene.pointcloud.surfelSpacing > 0.0f) return scene.pointcloud.surfelSpacing;
-  return std::sqrt(static_cast<float>(scene.mesh.area()) /
-                   static_cast<float>(scene.pointcloud.targetSurfels));
+float surfelSpacing(const World& world, const PointCloudSettings& settings) {
+  if (settings.surfelSpacing > 0.0f) return settings.surfelSpacing;
+  return std::sqrt(static_cast<float>(world.mesh.area()) /
+                   static_cast<float>(settings.targetSurfels));
 }
 
-GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache, float spacing,
-                            int samples) {
-  const Scene& scene = ctx.scene;
+GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
+                            const PointCloudSettings& settings, float spacing, int samples) {
   GatherOptions o;
   o.samples = samples;
-  o.maxSolidAngle = scene.pointcloud.clusterSolidAngle;
-  o.maxLvoxelSolidAngle = scene.pointcloud.lvoxelClusterSolidAngle;
+  o.maxSolidAngle = settings.clusterSolidAngle;
+  o.maxLvoxelSolidAngle = settings.lvoxelClusterSolidAngle;
   // Gather rays start a quarter spacing out, past the receiver's own (possibly tilted)
   // disk. Neighbouring disks of a curved surface are passed by their enclosed inner sides
   // (buried_surfels.h), so the offset need not skip them: half a spacing skipped real
@@ -42,32 +41,33 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   return o;
 }
 
-SurfelSet sampleSurfels(const RenderContext& ctx, float spacing) {
-  const Scene& scene = ctx.scene;
+SurfelSet sampleSurfels(const RenderContext& ctx, SurfelSamplerKind sampler, float spacing) {
+  const World& world = ctx.world;
   if (!(spacing > 0.0f)) return {};  // no surfaces (a scene of media only)
-  if (scene.pointcloud.surfelSampler == "camera")
+  if (sampler == SurfelSamplerKind::kCamera)
     return sampleSurfelsFromCamera(
-        ctx.tracer, scene.materials, scene.camera,
-        CameraSurfelSettings{0.1f, 2.0f, 1.15f, 0.1f, scene.render.seed});
+        ctx.tracer, world.materials, world.camera,
+        CameraSurfelSettings{0.1f, 2.0f, 1.15f, 0.1f, ctx.settings.seed});
   UniformSurfelSettings settings;
   settings.spacing = spacing;
-  settings.seed = scene.render.seed;
-  return sampleSurfelsUniform(scene.mesh, scene.materials, settings);
+  settings.seed = ctx.settings.seed;
+  return sampleSurfelsUniform(world.mesh, world.materials, settings);
 }
 
-void removeBuried(const RenderContext& ctx, float spacing, SurfelSet& surfels, Report& report) {
-  const float reach = ctx.scene.pointcloud.burialReach * spacing;
+void removeBuried(const RenderContext& ctx, float burialReach, float spacing, SurfelSet& surfels,
+                  Report& report) {
+  const float reach = burialReach * spacing;
   if (!(reach > 0.0f) || surfels.size() == 0) return;
   report.add("buried_surfels",
              removeBuriedSurfels(surfels, ctx.tracer,
-                                 {reach, 16, ctx.scene.render.seed, ctx.scene.camera.position}));
+                                 {reach, 16, ctx.settings.seed, ctx.world.camera.position}));
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
 // lvoxels (from the field).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
                  rte::SolveCounts& counts) {
-  const Scene& scene = ctx.scene;
+  const World& world = ctx.world;
   PointCloud& cloud = *cache.cloud;
   if (cache.lvoxels) cacheLvoxelDirectLight(ctx, volume, cache.field, counts);
   tbb::combinable<rte::SolveCounts> perThread;
@@ -77,13 +77,13 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         SurfaceHit hit;
         hit.point = q.position;
         hit.normal = q.normal;
-        Rng rng(scene.render.seed ^ 0x5eedu,
+        Rng rng(ctx.settings.seed ^ 0x5eedu,
                 (static_cast<uint64_t>(q.index) << 1) |
                     (dot(q.normal, cloud.surfels().normal[q.index]) < 0));
         rte::SolveCounts& local = perThread.local();
         auto throughMedia = [&](const Ray& shadow) { return volume.transmittance(shadow, local); };
         uint64_t rays = 0;
-        const Material& m = scene.materials[scene.mesh.triangleMaterial[q.triangle]];
+        const Material& m = world.materials[world.mesh.triangleMaterial[q.triangle]];
         return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
       },
       [&](const LvoxelLightQuery& q) {
@@ -115,23 +115,25 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
 }  // namespace
 
 PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
+                                const PointCloudSettings& settings, const std::string& sceneFile,
                                 Report& report) {
-  const Scene& scene = ctx.scene;
-  const float spacing = surfelSpacing(scene);
+  const uint64_t seed = ctx.settings.seed;
+  const float spacing = surfelSpacing(ctx.world, settings);
   PointBasedCache cache;
-  cache.lvoxels = scene.render.mode == "pcb" && !volume.empty();
+  cache.lvoxels = ctx.settings.mode == Mode::kPcb && !volume.empty();
   SurfelSet surfels;
   {
     PhaseTimer timer(report, "surfel_sampling");
-    surfels = sampleSurfels(ctx, spacing);
-    removeBuried(ctx, spacing, surfels, report);
+    surfels = sampleSurfels(ctx, settings.surfelSampler, spacing);
+    removeBuried(ctx, settings.burialReach, spacing, surfels, report);
   }
   LvoxelSet lvoxels;
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_sampling");
-    cache.field = LvoxelField(volume.media().bounds(), lvoxelSpacing(scene, volume.media()),
+    cache.field = LvoxelField(volume.media().bounds(),
+                              lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
                               lvoxelFieldChannels(ctx.lights));
-    lvoxels = sampleSceneLvoxels(scene, volume.media(), cache.field);
+    lvoxels = sampleSceneLvoxels(volume.media(), settings.lvoxelSamples, seed, cache.field);
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
@@ -140,7 +142,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   {
     PhaseTimer timer(report, "octree_build");
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels));
-    if (scene.pointcloud.gatherVisibility == "rays")
+    if (settings.gatherVisibility == GatherVisibility::kRays)
       cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
   }
   rte::SolveCounts counts;
@@ -148,16 +150,16 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     PhaseTimer timer(report, "direct_cache");
     cacheDirect(ctx, volume, cache, counts);
   }
-  const int passes = scene.pointcloud.bounces;
+  const int passes = settings.bounces;
   if (passes > 0) {
     PhaseTimer timer(report, "interreflection");
     const GatherOptions surfelOptions =
-        gatherOptions(ctx, cache, spacing, scene.pointcloud.surfelGatherSamples);
+        gatherOptions(ctx, cache, settings, spacing, settings.surfelGatherSamples);
     GatherOptions lvoxelOptions =
-        gatherOptions(ctx, cache, spacing, scene.pointcloud.lvoxelGatherSamples);
+        gatherOptions(ctx, cache, settings, spacing, settings.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
     const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, scene.render.seed);
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed);
     if (cache.lvoxels) addMultipleScattering(cache.cloud->lvoxels(), cache.field);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
@@ -166,12 +168,12 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);
-  if (scene.pointcloud.gatherSpacing > 1) {
+  if (settings.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
     const GatherOptions options =
-        gatherOptions(ctx, cache, spacing, scene.pointcloud.gatherSamples);
-    cache.gathers = IndirectGrid(ctx, *cache.cloud, options, scene.pointcloud.gatherSpacing,
-                                 scene.pointcloud.gatherFilter, scene.render.seed);
+        gatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
+    cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
+                                 settings.gatherFilter, seed);
     report.add("grid_gathers", cache.gathers.pointCount());
     report.add("grid_gather_rays",
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));
@@ -180,21 +182,22 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
 }
 
 PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
-                        const PointBasedCache& cache, int spp, SamplerCounters& counters) {
-  const Scene& scene = ctx.scene;
-  const int perSample = std::max(1, scene.pointcloud.gatherSamples / std::max(1, spp));
-  const GatherOptions options = gatherOptions(ctx, cache, surfelSpacing(scene), perSample);
+                        const PointBasedCache& cache, const PointCloudSettings& settings, int spp,
+                        SamplerCounters& counters) {
+  const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
+  const GatherOptions options =
+      gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
   return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng) {
-    const Scene& sc = ctx.scene;
+    const World& world = ctx.world;
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
-    const Ray ray = sc.camera.generateRay(px, py);
+    const Ray ray = world.camera.generateRay(px, py);
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     RGB behind = ctx.lights.environment();
     if (hitSurface) {
-      const Material& m = sc.materials[sc.mesh.triangleMaterial[hit.triangle]];
+      const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;
       auto throughMedia = [&](const Ray& shadow) {
         return volume.transmittance(shadow, solveCounts);

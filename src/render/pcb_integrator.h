@@ -6,8 +6,10 @@
 // rays through media: with the in-scatter source read from the lvoxels (pcb), or with
 // exact single scattering (pcb-surfels, the traditional baseline).
 #include <memory>
+#include <string>
 
 #include "pointcloud/point_cloud.h"
+#include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_lookup.h"
 #include "src/render/indirect_grid.h"
 #include "src/render/lvoxel_field.h"
@@ -28,12 +30,15 @@ struct PointBasedCache {
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };
 
-// Phase 1. Records times, counts and memory in the report.
+// Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of
+// `settings` in errors found only now (an lvoxel spacing far too small for the media).
 PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
+                                const PointCloudSettings& settings, const std::string& sceneFile,
                                 Report& report);
 
 // Phase 2 for one camera sample.
 PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
-                        const PointBasedCache& cache, int spp, SamplerCounters& counters);
+                        const PointBasedCache& cache, const PointCloudSettings& settings, int spp,
+                        SamplerCounters& counters);
 
 }  // namespace lvox

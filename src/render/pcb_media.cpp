@@ -54,26 +54,27 @@ RGB lightTransmittance(const RenderContext& ctx, const VolumeTransport& volume, 
 
 }  // namespace
 
-float lvoxelSpacing(const Scene& scene, const MediaSet& media) {
+float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile) {
   const Vec3 d = media.bounds().diagonal();
-  if (!(scene.pointcloud.lvoxelSpacing > 0.0f)) return std::max({d.x, d.y, d.z}) / 48.0f;
-  const float s = scene.pointcloud.lvoxelSpacing;
-  // The grid covers the media's bounds; say so here, naming the scene, before allocating.
+  if (!(requested > 0.0f)) return std::max({d.x, d.y, d.z}) / 48.0f;
+  const float s = requested;
+  // The grid covers the media's bounds; say so here, before allocating.
   const double cells = std::ceil(std::max(d.x, 0.0f) / s) * std::ceil(std::max(d.y, 0.0f) / s) *
                        std::ceil(std::max(d.z, 0.0f) / s);
   if (cells > 5e7)
-    throw InputError(scene.path, "pointcloud.lvoxel_spacing",
+    throw InputError(sceneFile, "pointcloud.lvoxel_spacing",
                      std::to_string(s) + " gives " + std::to_string(static_cast<long long>(cells)) +
                          " cells over the media (at most 50,000,000)");
   return s;
 }
 
-LvoxelSet sampleSceneLvoxels(const Scene& scene, const MediaSet& media, LvoxelField& field) {
+LvoxelSet sampleSceneLvoxels(const MediaSet& media, int samplesPerAxis, uint64_t seed,
+                             LvoxelField& field) {
   LvoxelSet all;
   LvoxelSettings settings;
   settings.spacing = field.spacing();
-  settings.samplesPerAxis = scene.pointcloud.lvoxelSamples;
-  settings.seed = scene.render.seed;
+  settings.samplesPerAxis = samplesPerAxis;
+  settings.seed = seed;
   for (const Medium& m : media.media()) {
     const MediumForLvoxels adapter{m, media.bounds(), activeBoxes(m)};
     all.append(sampleLvoxels(adapter, settings));
@@ -102,7 +103,7 @@ void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& vol
       values[k] =
           distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance, local) : RGB(1.0f);
     }
-    Rng rng(ctx.scene.render.seed ^ 0x1f0e1u, slot);
+    Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
     RGB isotropic(0.0f);
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
       isotropic += s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);

@@ -18,11 +18,13 @@
 
 namespace lvox {
 
-// The lvoxel spacing: pointcloud.lvoxel_spacing, or 1/48 of the largest extent of the media.
-float lvoxelSpacing(const Scene& scene, const MediaSet& media);
+// The lvoxel spacing: `requested` (pointcloud.lvoxel_spacing of `sceneFile`) when
+// positive, else 1/48 of the largest extent of the media.
+float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile);
 
 // Samples lvoxels in every medium on the field's grid and marks their cells occupied.
-LvoxelSet sampleSceneLvoxels(const Scene& scene, const MediaSet& media, LvoxelField& field);
+LvoxelSet sampleSceneLvoxels(const MediaSet& media, int samplesPerAxis, uint64_t seed,
+                             LvoxelField& field);
 
 // Channel layout of the field: one per delta light, then the isotropic in-scatter.
 inline size_t lvoxelFieldChannels(const LightSet& lights) { return lights.lights().size() + 1; }

@@ -1,13 +1,15 @@
 #pragma once
-// What every integrator needs of a loaded scene: the scene, its BVH and its lights.
+// What every integrator needs: the world, the render settings, the BVH and the lights.
 #include "src/geometry/ray_tracer.h"
 #include "src/render/light_set.h"
-#include "src/scene/scene.h"
+#include "src/render/render_settings.h"
+#include "src/world/world.h"
 
 namespace lvox {
 
 struct RenderContext {
-  const Scene& scene;
+  const World& world;
+  const RenderSettings& settings;
   const RayTracer& tracer;
   const LightSet& lights;
 

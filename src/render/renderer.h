@@ -1,17 +1,14 @@
 #pragma once
-// Renders a loaded scene in the mode its settings name.
+// Renders a scene in the mode its settings name.
 #include "src/render/progressive.h"
+#include "src/render/render_job.h"
 #include "src/render/report.h"
-#include "src/scene/scene.h"
 
 namespace lvox {
 
-// The modes lvox knows; throws InputError naming `render.mode` for any other.
-void validateMode(const Scene& scene);
-
-// Renders with the scene's spp, all at once.
-Image renderScene(const Scene& scene, Report& report);
+// Renders with the job's spp, all at once.
+Image renderScene(const RenderJob& job, Report& report);
 // Renders by a plan: sample ranges, a time budget, convergence against a reference.
-RenderResult renderScene(const Scene& scene, const RenderPlan& plan, Report& report);
+RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& report);
 
 }  // namespace lvox

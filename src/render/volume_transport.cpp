@@ -1,6 +1,7 @@
 #include "src/render/volume_transport.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace lvox {
 namespace {
@@ -22,33 +23,28 @@ struct HeterogeneousExtinction {
 
 }  // namespace
 
-VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media)
-    : ctx_(ctx), media_(media), mediumLights_(ctx.scene, ctx.scene.render.mediumLightSamples) {
-  const Scene& scene = ctx.scene;
-  const VolumeIntegratorSettings& v = scene.volume;
-  if (v.solver != "auto")
-    method_ = rte::parseMethod(v.solver, scene.path, "volume_integrator.solver", "auto");
+VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media,
+                                 const VolumeSettings& v)
+    : ctx_(ctx), media_(media), mediumLights_(ctx.world, ctx.settings.mediumLightSamples) {
+  if (v.solver) method_ = *v.solver;
   base_.step = v.step;
   base_.tolerance = v.tolerance;
   base_.minStep = v.minStep;
   base_.maxStep = v.maxStep;
   base_.maxEvaluations = v.maxEvaluations;
-  base_.seed = scene.render.seed;
-  const rte::Sampling sampling =
-      rte::parseSampling(v.sampling, scene.path, "volume_integrator.sampling");
-  distanceSampling_ = sampling == rte::Sampling::kDistance;
-  if (sampling == rte::Sampling::kEquiangular) {
-    for (const Light& l : scene.lights)
+  base_.seed = ctx.settings.seed;
+  distanceSampling_ = v.sampling == rte::Sampling::kDistance;
+  if (v.sampling == rte::Sampling::kEquiangular) {
+    for (const Light& l : ctx.world.lights)
       if (l.type == LightType::Point || l.type == LightType::Spot) {
         equiangular_ = true;
         equiangularCentre_ = l.position;
         break;
       }
   }
-  if (v.solver == "auto") auto_.emplace(scene, media, base_);
-  if (media.size() > kMaxMedia)
-    throw InputError(scene.path, "media",
-                     "at most " + std::to_string(kMaxMedia) + " media are supported");
+  if (!v.solver) auto_.emplace(ctx.world.lights, media, base_);
+  // The scene loader refuses more media; MediaSet users index fixed arrays of this size.
+  if (media.size() > kMaxMedia) throw std::logic_error("more media than kMaxMedia");
 }
 
 rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float t0, float t1,

@@ -12,12 +12,13 @@
 #include "src/render/render_context.h"
 #include "volume/media/media_set.h"
 #include "volume/rte/solve.h"
+#include "volume/volume_settings.h"
 
 namespace lvox {
 
 class VolumeTransport {
  public:
-  VolumeTransport(const RenderContext& ctx, const MediaSet& media);
+  VolumeTransport(const RenderContext& ctx, const MediaSet& media, const VolumeSettings& settings);
 
   bool empty() const { return media_.empty(); }
   const MediaSet& media() const { return media_; }
@@ -54,15 +55,12 @@ class VolumeTransport {
   const MediaSet& media_;
   LightSet mediumLights_;  // render.medium_light_samples per area light and environment
   rte::Method method_ = rte::Method::kRk4;
-  std::optional<AutoSolver> auto_;  // volume_integrator.solver "auto"
+  std::optional<AutoSolver> auto_;  // the solver "auto"
   rte::SolveSettings<float> base_;
   bool equiangular_ = false;
   bool distanceSampling_ = false;
   Vec3 equiangularCentre_;
 };
-
-// At most this many media are evaluated per point (no allocation in the hot path).
-inline constexpr size_t kMaxMedia = 8;
 
 // The RTE along a camera ray: sigma_t of all media, emission plus the in-scatter source.
 template <class ScatterSource>

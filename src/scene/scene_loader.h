@@ -1,15 +1,34 @@
 #pragma once
+// Reads a scene file (format: docs/scene-format.md) and composes the scene: each section
+// is parsed by the library that owns it (the world by src/world, media and the volume
+// integrator by volume/, the point cloud by pointcloud/, the render by src/render).
+//
+// Command-line flags are merged into the document before parsing (SettingOverride), so a
+// flag's value passes exactly the checks of the field it sets and an error names the flag.
+// Every setting is parsed and checked before any mesh or grid is loaded.
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "src/scene/scene.h"
 
 namespace lvox {
 
-// Reads and validates a scene file (format: docs/scene-format.md). Throws InputError
-// naming the file and field on any problem; unknown keys are errors, not ignored.
-Scene loadScene(const std::string& path);
+// A command-line flag that sets one field of a section: {"--solver", "volume_integrator",
+// "solver", "rk4"}.
+struct SettingOverride {
+  std::string flag;
+  std::string section;
+  std::string key;
+  nlohmann::json value;
+};
 
-// Same, from JSON text; `path` is used for messages and to resolve relative file names.
-Scene parseScene(const std::string& text, const std::string& path);
+// Throws InputError naming the file and field (or the flag) on any problem; unknown keys
+// are errors, not ignored.
+Scene loadScene(const std::string& path, const std::vector<SettingOverride>& overrides = {});
+
+// The same, from JSON text; `path` is used for messages and to resolve relative file names.
+Scene parseScene(const std::string& text, const std::string& path,
+                 const std::vector<SettingOverride>& overrides = {});
 
 }  // namespace lvox

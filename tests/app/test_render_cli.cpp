@@ -103,6 +103,29 @@ TEST(RenderCli, MissingMesh) {
       "shapes[0].file", "nope.obj");
 }
 
+// A bad flag value is refused with one line naming the flag, before the (missing) mesh is
+// read and before anything is written.
+TEST(RenderCli, BadFlagValuesNameTheFlagBeforeAnyAssetIsLoaded) {
+  const auto dir = test::tempDir();
+  test::writeFile(
+      dir / "scene.json",
+      replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"));
+  for (const auto& [flags, expected] :
+       {std::pair<std::string, std::string>{"--solver rk5",
+                                            "lvox: error: --solver: unknown solver 'rk5'"},
+        {"--mode nope", "lvox: error: --mode: unknown mode 'nope'"},
+        {"--step 1e-9", "lvox: error: --step: value 1e-09 is outside"},
+        {"--seed -1", "lvox: error: --seed: value -1 is outside"}}) {
+    const RunResult r = runLvox("render " + (dir / "scene.json").string() + " " + flags + " -o " +
+                                    (dir / "out.exr").string(),
+                                dir);
+    EXPECT_EQ(r.exitCode, 1) << flags;
+    EXPECT_EQ(r.err.rfind(expected, 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
+  }
+}
+
 TEST(RenderCli, MissingSceneFile) {
   const auto dir = test::tempDir();
   const RunResult r = runLvox(

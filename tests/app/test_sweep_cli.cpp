@@ -111,6 +111,14 @@ void expectSweepFailure(const std::string& args, const std::string& field) {
 TEST(SweepCli, UnknownMethod) { expectSweepFailure("--methods rk4,rk5", "--methods"); }
 TEST(SweepCli, NotANumberTolerance) { expectSweepFailure("--tols 0.01,nan", "--tols"); }
 TEST(SweepCli, MonteCarloWithoutSpp) { expectSweepFailure("--methods mc", "--mc-spp"); }
+// Sweep values pass the checks of the scene fields they set (volume_integrator.tolerance is
+// at most 1, the step at least 1e-6 units).
+TEST(SweepCli, ValuesOutsideTheirFieldsRangesAreRefused) {
+  expectSweepFailure("--methods dopri5 --tols 5", "--tols: value 5 is outside");
+  expectSweepFailure("--methods rk4 --step-scales 1e-9", "--step-scales: value");
+  expectSweepFailure("--mode nope", "--mode: unknown mode 'nope'");
+  expectSweepFailure("--mode mc", "--mode: the sweep compares solvers");
+}
 TEST(SweepCli, ReferenceOfAnotherSize) {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", kScene);

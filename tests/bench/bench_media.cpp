@@ -19,7 +19,8 @@ MediaSet smokeMedia(const std::string& interpolation) {
     "media": [{"type": "vdb", "file": ")" +
                            LVOX_SOURCE_DIR + R"(/assets/smoke_plume.vdb"}]})";
   std::vector<std::string> warnings;
-  return MediaSet::build(parseScene(text, "bench.json"), warnings);
+  const Scene scene = parseScene(text, "bench.json");
+  return MediaSet::build(scene.media, scene.volume.interpolation, warnings);
 }
 
 void MediumLookup(benchmark::State& state, const char* interpolation) {

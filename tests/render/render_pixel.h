@@ -15,7 +15,7 @@ struct Pixel {
 
 inline Pixel renderPixel(const Scene& scene) {
   Pixel p;
-  p.value = renderScene(scene, p.report).at(0, 0);
+  p.value = renderScene(scene.job(), p.report).at(0, 0);
   return p;
 }
 
@@ -23,11 +23,11 @@ inline Pixel renderPixel(const Scene& scene) {
 inline Scene directScene(const std::string& text, const std::string& solver, float step,
                          float tolerance, const std::string& sampling = "none") {
   Scene scene = parseScene(text, "/tmp/lvox-pixel-test.json");
-  scene.render.mode = "direct";
-  scene.volume.solver = solver;
+  scene.render.mode = Mode::kDirect;
+  scene.volume.solver = parseSolver(solver, "test", "solver");
   scene.volume.step = step;
   scene.volume.tolerance = tolerance;
-  scene.volume.sampling = sampling;
+  scene.volume.sampling = rte::parseSampling(sampling, "test", "sampling");
   return scene;
 }
 

@@ -62,11 +62,11 @@ struct Planner {
   std::unique_ptr<AutoSolver> solver;
   explicit Planner(const std::string& text) : scene(parseScene(text, "/tmp/auto-plan.json")) {
     std::vector<std::string> warnings;
-    media = MediaSet::build(scene, warnings);
+    media = MediaSet::build(scene.media, scene.volume.interpolation, warnings);
     rte::SolveSettings<float> base;
     base.step = scene.volume.step;
     base.maxStep = scene.volume.maxStep;
-    solver = std::make_unique<AutoSolver>(scene, media, base);
+    solver = std::make_unique<AutoSolver>(scene.world.lights, media, base);
   }
 };
 

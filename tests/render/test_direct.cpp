@@ -41,9 +41,9 @@ std::string fromSide(std::string text) {
 
 RGB renderPixel(const std::string& text) {
   Scene scene = parseScene(text, "/tmp/direct-test.json");
-  scene.render.mode = "direct";
+  scene.render.mode = Mode::kDirect;
   Report report;
-  const Image image = renderScene(scene, report);
+  const Image image = renderScene(scene.job(), report);
   return image.at(0, 0);
 }
 
@@ -154,9 +154,9 @@ TEST(DirectLighting, DeterministicAcrossThreadCounts) {
     std::string t = text;
     t.replace(t.find("THREADS"), 7, threads);
     Scene scene = parseScene(t, "/tmp/det.json");
-    scene.render.mode = "direct";
+    scene.render.mode = Mode::kDirect;
     Report report;
-    return renderScene(scene, report);
+    return renderScene(scene.job(), report);
   };
   const Image one = render("1"), two = render("2"), again = render("2");
   ASSERT_EQ(one.pixels.size(), two.pixels.size());

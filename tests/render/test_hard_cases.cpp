@@ -45,12 +45,12 @@ TEST(HardCases, NoSolverProducesInvalidRadianceAtAnyStep) {
     for (const char* solver : kSolvers) {
       for (const float stepScale : {4.0f, 0.5f}) {
         Scene scene = base;
-        scene.camera.width = scene.camera.height = 6;
+        scene.world.camera.width = scene.world.camera.height = 6;
         scene.render.spp = 1;
-        scene.volume.solver = solver;
+        scene.volume.solver = parseSolver(solver, "test", "solver");
         scene.volume.step = base.volume.step * stepScale;
         Report report;
-        const Image image = renderScene(scene, report);
+        const Image image = renderScene(scene.job(), report);
         const std::string what = path + " " + solver + " step x" + std::to_string(stepScale);
         EXPECT_EQ(report.counts["invalid_samples"], 0u) << what;
         for (const RGB& p : image.pixels) {
@@ -66,13 +66,13 @@ TEST(HardCases, NoSolverProducesInvalidRadianceAtAnyStep) {
     }
     // The point-based renderer on the same scene (lvoxels, interreflection, grid gathers).
     Scene scene = base;
-    scene.camera.width = scene.camera.height = 6;
+    scene.world.camera.width = scene.world.camera.height = 6;
     scene.render.spp = 1;
-    scene.render.mode = "pcb";
+    scene.render.mode = Mode::kPcb;
     scene.pointcloud.targetSurfels = 2000;  // the floors are large and simple
     scene.pointcloud.bounces = 2;
     Report report;
-    const Image image = renderScene(scene, report);
+    const Image image = renderScene(scene.job(), report);
     EXPECT_EQ(report.counts["invalid_samples"], 0u) << path << " pcb";
     EXPECT_GT(report.counts["lvoxels"], 0u) << path << " pcb";
     for (const RGB& p : image.pixels) ASSERT_TRUE(isFinite(p) && p.x >= 0.0f) << path << " pcb";

@@ -37,11 +37,11 @@ struct Lookups {
 Lookups lookUpEveryPixel(const Scene& scene, const RayTracer& tracer, const IndirectGrid& grid) {
   Lookups out;
   double sum = 0.0, sumSq = 0.0;
-  for (int y = 0; y < scene.camera.height; ++y)
-    for (int x = 0; x < scene.camera.width; ++x) {
+  for (int y = 0; y < scene.world.camera.height; ++y)
+    for (int x = 0; x < scene.world.camera.width; ++x) {
       const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
       SurfaceHit hit;
-      if (!tracer.intersect(scene.camera.generateRay(px, py), hit)) continue;
+      if (!tracer.intersect(scene.world.camera.generateRay(px, py), hit)) continue;
       RGB e;
       if (!grid.lookup(px, py, hit, e)) continue;
       ++out.found;
@@ -55,12 +55,13 @@ Lookups lookUpEveryPixel(const Scene& scene, const RayTracer& tracer, const Indi
 
 TEST(IndirectGrid, TentFilterKeepsAUniformIrradianceAndAveragesNoiseAway) {
   const Scene scene = boxScene();
-  const RayTracer tracer(scene.mesh);
-  const LightSet lights(scene, 1);
-  const RenderContext ctx{scene, tracer, lights};
+  const RayTracer tracer(scene.world.mesh);
+  const LightSet lights(scene.world, 1);
+  const RenderContext ctx{scene.world, scene.render, tracer, lights};
   // Every surfel of the closed box sends radiance 1: every gather gives E = pi exactly,
   // and so must every filtered lookup (the weights are normalised).
-  PointCloud uniform(sampleSurfelsUniform(scene.mesh, scene.materials, {0.05f, 1.15f, 1}), {});
+  PointCloud uniform(
+      sampleSurfelsUniform(scene.world.mesh, scene.world.materials, {0.05f, 1.15f, 1}), {});
   cacheDirectLight(
       uniform, [](const SurfelLightQuery&) { return RGB(1.0f); },
       [](const LvoxelLightQuery&) { return RGB(0.0f); });
@@ -76,7 +77,8 @@ TEST(IndirectGrid, TentFilterKeepsAUniformIrradianceAndAveragesNoiseAway) {
   // Surfels of random radiance in [0, 2]: each gather of 16 rays is noisy, the filter
   // averages more gathers. Variance of the lookups: a tent over +-3 gathers averages
   // about 4.5x as many gathers as bilinear interpolation.
-  PointCloud noisy(sampleSurfelsUniform(scene.mesh, scene.materials, {0.05f, 1.15f, 1}), {});
+  PointCloud noisy(sampleSurfelsUniform(scene.world.mesh, scene.world.materials, {0.05f, 1.15f, 1}),
+                   {});
   cacheDirectLight(
       noisy,
       [](const SurfelLightQuery& q) {

@@ -43,7 +43,7 @@ Image renderFurnace(int maxBounces, int spp) {
       "shapes": [{"type": "box", "min": [-2, -1, -3], "max": [2, 1.5, 3], "material": "wall"}]})";
   Scene scene = parseScene(text, "/tmp/furnace.json");
   Report report;
-  return renderScene(scene, report);
+  return renderScene(scene.job(), report);
 }
 
 TEST(MonteCarlo, SurfaceFurnaceAllBounces) {
@@ -94,7 +94,7 @@ TEST(MonteCarloMedia, WhiteFurnaceWithTheSmokeVdb) {
       LVOX_SOURCE_DIR + R"(/assets/smoke_plume.vdb", "density_scale": 8, "albedo": 1, "g": 0.4}]})";
   Scene scene = parseScene(text, "/tmp/white-furnace.json");
   Report report;
-  const Image image = renderScene(scene, report);
+  const Image image = renderScene(scene.job(), report);
   const PixelStats s = channelStats(image, 1);
   EXPECT_NEAR(s.mean, 0.5, 4.5 * s.standardError + 1e-6) << "se " << s.standardError;
   EXPECT_LT(s.standardError, 0.01);
@@ -116,7 +116,7 @@ TEST(MonteCarloMedia, SingleScatteringMatchesTheSlabOracle) {
       sigmaS * p * 2.0 * std::exp(-sigmaT * s0) * (1 - std::exp(-sigmaT * d)) / sigmaT;
   Scene scene = parseScene(text, "/tmp/mc-slab.json");
   Report report;
-  const PixelStats s = channelStats(renderScene(scene, report), 0);
+  const PixelStats s = channelStats(renderScene(scene.job(), report), 0);
   EXPECT_NEAR(s.mean, expected, 4.5 * s.standardError) << "se " << s.standardError;
   EXPECT_LT(s.standardError, 0.03 * expected);
 }
@@ -139,7 +139,7 @@ TEST(MonteCarloMedia, GlobalAndGridMajorantsAgree) {
     t.replace(t.find("MAJ"), 3, maj);
     Scene scene = parseScene(t, "/tmp/maj.json");
     Report report;
-    stats[k] = channelStats(renderScene(scene, report), 0);
+    stats[k] = channelStats(renderScene(scene.job(), report), 0);
     lookups[k++] = report.counts["medium_evals"];
   }
   const double se = std::hypot(stats[0].standardError, stats[1].standardError);
@@ -176,24 +176,24 @@ TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
                            "thin_beam", "high_frequency"}) {
     const Scene base = loadScene(std::string(LVOX_SOURCE_DIR) + "/scenes/hard/" + name + ".json");
     Scene ode = base, mc = base;
-    for (Scene* s : {&ode, &mc}) s->camera.width = s->camera.height = 16;
-    ode.render.mode = "direct";
+    for (Scene* s : {&ode, &mc}) s->world.camera.width = s->world.camera.height = 16;
+    ode.render.mode = Mode::kDirect;
     ode.render.spp = 16;
-    ode.volume.solver = "rk4";
+    ode.volume.solver = rte::Method::kRk4;
     ode.volume.step = base.volume.step / 4.0f;
-    ode.volume.sampling = "equiangular";
-    mc.render.mode = "mc";
+    ode.volume.sampling = rte::Sampling::kEquiangular;
+    mc.render.mode = Mode::kMc;
     mc.render.spp = 4096;
     mc.render.maxBounces = 1;
     std::vector<Vec3> lightPixels;
-    for (const Light& l : base.lights)
+    for (const Light& l : base.world.lights)
       if (l.type == LightType::Point || l.type == LightType::Spot) {
-        const Vec3 q = projectToImage(ode.camera, l.position);
+        const Vec3 q = projectToImage(ode.world.camera, l.position);
         if (q.z > 0.0f) lightPixels.push_back(q);
       }
     Report odeReport, mcReport;
-    const Image a = renderScene(ode, odeReport);
-    const Image b = renderScene(mc, mcReport);
+    const Image a = renderScene(ode.job(), odeReport);
+    const Image b = renderScene(mc.job(), mcReport);
     double sum = 0.0, sum2 = 0.0, level = 0.0, n = 0.0;
     for (int y = 0; y < a.height; ++y)
       for (int x = 0; x < a.width; ++x) {

@@ -11,7 +11,7 @@ RenderResult render(const std::string& text, Report& report) {
   Scene scene = parseScene(text, "/tmp/pcb-test.json");
   RenderPlan plan;
   plan.spp = scene.render.spp;
-  return renderScene(scene, plan, report);
+  return renderScene(scene.job(), plan, report);
 }
 
 // A white floor beside a red wall, lit by a sun that reaches both: the floor next to the
@@ -36,7 +36,7 @@ TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
   // The Monte Carlo reference with the same bounce budget (direct + one bounce).
   Scene mcScene = parseScene(withMode("mc"), "/tmp/pcb-test.json");
   mcScene.render.spp = 4096;
-  const RGB mc = renderScene(mcScene, mcReport).at(0, 0);
+  const RGB mc = renderScene(mcScene.job(), mcReport).at(0, 0);
   // Direct light is white, so the red excess x - y is the bleeding. It must be clearly
   // there and match the reference within 5 % (surfel discretisation and gather noise).
   EXPECT_GT(pcb.x - pcb.y, 0.1f);

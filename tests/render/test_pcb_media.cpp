@@ -13,7 +13,7 @@ using test::Pixel;
 
 Pixel renderPixel(const std::string& text, const std::string& mode, int spp = 1) {
   Scene scene = parseScene(text, "/tmp/pcb-media-test.json");
-  scene.render.mode = mode;
+  scene.render.mode = parseMode(mode, "test", "mode");
   scene.render.spp = spp;
   return test::renderPixel(scene);
 }
@@ -72,9 +72,9 @@ TEST(PointBasedMedia, MultipleScatteringAgreesWithMonteCarlo) {
                    "cluster_solid_angle": 0}})";
   Scene single = parseScene(scene, "/tmp/pcb-media-test.json");
   single.pointcloud.bounces = 0;
-  single.render.mode = "pcb";
+  single.render.mode = Mode::kPcb;
   Report singleReport;
-  const float singleScatter = renderScene(single, singleReport).at(0, 0).x;
+  const float singleScatter = renderScene(single.job(), singleReport).at(0, 0).x;
   const Pixel pcb = renderPixel(scene, "pcb");
   const Pixel mc = renderPixel(scene, "mc", 20000);
   // Multiple scattering more than doubles the single-scattered light here (measured

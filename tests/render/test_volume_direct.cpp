@@ -99,12 +99,12 @@ TEST(VolumeDirect, EmissionFurnaceThroughTheSmokeVdb) {
     // pixel 0.83 % off, so 1.5 %; the IVP methods are exact to float rounding.
     const float tolerance = std::string(solver) == "simpson" ? 1.5e-2f : 2e-4f;
     Scene scene = parseScene(s.str(), "/tmp/furnace.json");
-    scene.render.mode = "direct";
-    scene.volume.solver = solver;
+    scene.render.mode = Mode::kDirect;
+    scene.volume.solver = parseSolver(solver, "test", "solver");
     scene.volume.step = 0.2f;
     scene.volume.tolerance = 1e-6f;
     Report report;
-    const Image image = renderScene(scene, report);
+    const Image image = renderScene(scene.job(), report);
     for (const RGB& p : image.pixels)
       ASSERT_NEAR(p.x, 0.7f, tolerance * 0.7f) << solver << " " << p.x;
     EXPECT_GT(report.counts["medium_evals"], 1000u) << "the rays must cross the smoke";
@@ -121,11 +121,11 @@ TEST(VolumeDirect, StiffMediumStaysFiniteAndCountsStabilityEvents) {
     "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [1, 1, 1], "sigma_a": 100, "sigma_s": 900}]})";
   for (const char* solver : {"euler", "rk2", "rk4", "ab4", "trapezoid", "simpson", "rectangle"}) {
     Scene sc = parseScene(scene, "/tmp/stiff.json");
-    sc.render.mode = "direct";
-    sc.volume.solver = solver;
+    sc.render.mode = Mode::kDirect;
+    sc.volume.solver = parseSolver(solver, "test", "solver");
     sc.volume.step = 0.1f;
     Report report;
-    const Image image = renderScene(sc, report);
+    const Image image = renderScene(sc.job(), report);
     for (const RGB& p : image.pixels) {
       EXPECT_TRUE(isFinite(p)) << solver;
       EXPECT_GE(p.x, 0.0f) << solver;

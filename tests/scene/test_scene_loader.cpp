@@ -36,12 +36,12 @@ std::string withField(const std::string& replaceFrom, const std::string& replace
 
 TEST(SceneLoader, MinimalScene) {
   const Scene scene = parseScene(kMinimal, "/tmp/scene.json");
-  EXPECT_EQ(scene.camera.width, 64);
-  EXPECT_EQ(scene.camera.height, 32);
-  EXPECT_EQ(scene.mesh.triangleCount(), 2u);
-  ASSERT_EQ(scene.lights.size(), 1u);
-  EXPECT_FLOAT_EQ(scene.lights[0].intensity.y, 2.0f);
-  EXPECT_FLOAT_EQ(scene.materials[0].albedo.z, 0.7f);
+  EXPECT_EQ(scene.world.camera.width, 64);
+  EXPECT_EQ(scene.world.camera.height, 32);
+  EXPECT_EQ(scene.world.mesh.triangleCount(), 2u);
+  ASSERT_EQ(scene.world.lights.size(), 1u);
+  EXPECT_FLOAT_EQ(scene.world.lights[0].intensity.y, 2.0f);
+  EXPECT_FLOAT_EQ(scene.world.materials[0].albedo.z, 0.7f);
 }
 
 TEST(SceneLoader, MalformedJsonNamesLineAndColumn) {
@@ -111,7 +111,7 @@ TEST(SceneLoader, TransformsScaleRotateTranslate) {
       "\"deg\": 90}, \"translate\": [10, 0, 0]}}");
   const Scene scene = parseScene(text, "/tmp/scene.json");
   // Corner (-1,0,-1): scaled to (-2,0,-2), rotated 90 deg about y to (-2,0,2), moved by +10 x.
-  const Vec3 p = scene.mesh.vertex(0, 0);
+  const Vec3 p = scene.world.mesh.vertex(0, 0);
   EXPECT_NEAR(p.x, 8.0f, 1e-5f);
   EXPECT_NEAR(p.y, 0.0f, 1e-5f);
   EXPECT_NEAR(p.z, 2.0f, 1e-5f);
@@ -128,11 +128,11 @@ TEST(SceneLoader, ObjWithMtlColours) {
                   std::string(R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
     "shapes": [{"type": "obj", "file": "m.obj"}]})"));
   const Scene scene = loadScene((dir / "s.json").string());
-  ASSERT_EQ(scene.mesh.triangleCount(), 3u);  // quad -> 2 triangles, plus one
-  const Material& red = scene.materials[scene.mesh.triangleMaterial[0]];
+  ASSERT_EQ(scene.world.mesh.triangleCount(), 3u);  // quad -> 2 triangles, plus one
+  const Material& red = scene.world.materials[scene.world.mesh.triangleMaterial[0]];
   EXPECT_FLOAT_EQ(red.albedo.x, 0.8f);
   EXPECT_FLOAT_EQ(red.albedo.y, 0.1f);
-  const Material& lamp = scene.materials[scene.mesh.triangleMaterial[2]];
+  const Material& lamp = scene.world.materials[scene.world.mesh.triangleMaterial[2]];
   EXPECT_TRUE(lamp.isEmissive());
   EXPECT_FLOAT_EQ(lamp.emission.x, 5.0f);
 }
@@ -170,8 +170,8 @@ TEST(SceneLoader, PlyAsciiAndBinary) {
     "materials": {"m": {"albedo": 0.5}},
     "shapes": [{"type": "ply", "file": "a.ply", "material": "m", "transform": {"translate": [0,0,3]}}]})");
   const Scene scene = loadScene((dir / "s.json").string());
-  ASSERT_EQ(scene.mesh.triangleCount(), 2u);
-  const Bounds3 b = scene.bounds();
+  ASSERT_EQ(scene.world.mesh.triangleCount(), 2u);
+  const Bounds3 b = scene.world.bounds();
   EXPECT_FLOAT_EQ(b.hi.x, 2.0f);
   EXPECT_FLOAT_EQ(b.lo.z, 3.0f);
   test::writeFile(dir / "c.ply", "ply\nformat ascii 1.0\nelement vertex 4\nthis is garbage\n");
@@ -189,7 +189,7 @@ TEST(SceneLoader, RealBunnyPly) {
                                       path + R"(", "material": "m"}]})");
   const Scene scene = loadScene((dir / "s.json").string());
   // The decimated Stanford bunny has 16,301 triangles (shared/assets/README.md).
-  EXPECT_NEAR(static_cast<double>(scene.mesh.triangleCount()), 16301.0, 5.0);
+  EXPECT_NEAR(static_cast<double>(scene.world.mesh.triangleCount()), 16301.0, 5.0);
 }
 
 }  // namespace
@@ -212,7 +212,7 @@ TEST(SceneLoader, PlyTruncatedAndCorrupt) {
     test::writeFile(dir / "x.ply", good.substr(0, cut));
     try {
       const Scene scene = loadScene((dir / "s.json").string());
-      EXPECT_LE(scene.mesh.triangleCount(), 2u);
+      EXPECT_LE(scene.world.mesh.triangleCount(), 2u);
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("x.ply"), std::string::npos) << e.what();
     }
@@ -222,7 +222,7 @@ TEST(SceneLoader, PlyTruncatedAndCorrupt) {
   test::writeFile(dir / "x.ply", outOfRange);
   try {
     const Scene scene = loadScene((dir / "s.json").string());
-    EXPECT_LE(scene.mesh.triangleCount(), 1u);
+    EXPECT_LE(scene.world.mesh.triangleCount(), 1u);
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("x.ply"), std::string::npos) << e.what();
   }

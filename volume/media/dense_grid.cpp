@@ -3,17 +3,22 @@
 #include <cmath>
 
 #include "src/core/error.h"
+#include "src/core/names.h"
 
 namespace lvox {
 
-Interpolation parseInterpolation(const std::string& name, const std::string& file,
+namespace {
+constexpr Named<Interpolation> kInterpolationNames[] = {{Interpolation::Nearest, "nearest"},
+                                                        {Interpolation::Trilinear, "trilinear"},
+                                                        {Interpolation::Tricubic, "tricubic"}};
+}  // namespace
+
+Interpolation parseInterpolation(std::string_view name, const std::string& file,
                                  const std::string& field) {
-  if (name == "nearest") return Interpolation::Nearest;
-  if (name == "trilinear") return Interpolation::Trilinear;
-  if (name == "tricubic") return Interpolation::Tricubic;
-  throw InputError(file, field,
-                   "unknown interpolation '" + name + "' (nearest, trilinear, tricubic)");
+  return parseNamed(name, kInterpolationNames, "interpolation", file, field);
 }
+
+std::string_view interpolationName(Interpolation i) { return nameOf(i, kInterpolationNames); }
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "src/core/math.h"
@@ -15,8 +16,10 @@ namespace lvox {
 
 enum class Interpolation { Nearest, Trilinear, Tricubic };
 
-Interpolation parseInterpolation(const std::string& name, const std::string& file,
+// "nearest" | "trilinear" | "tricubic"; throws InputError(file, field, ...) otherwise.
+Interpolation parseInterpolation(std::string_view name, const std::string& file,
                                  const std::string& field);
+std::string_view interpolationName(Interpolation i);
 
 struct DenseGrid {
   // Voxel (i, j, k) of the array has its centre at index coordinate origin + (i, j, k);

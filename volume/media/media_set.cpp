@@ -25,11 +25,10 @@ Medium boxMedium(const MediumDesc& d) {
 
 }  // namespace
 
-MediaSet MediaSet::build(const Scene& scene, std::vector<std::string>& warnings) {
+MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation interpolation,
+                         std::vector<std::string>& warnings) {
   MediaSet set;
-  const Interpolation interp =
-      parseInterpolation(scene.volume.interpolation, scene.path, "volume_integrator.interpolation");
-  for (const MediumDesc& d : scene.media) {
+  for (const MediumDesc& d : media) {
     Medium m;
     if (d.type == MediumType::Vdb) {
       GridLoadReport report;
@@ -57,7 +56,7 @@ MediaSet MediaSet::build(const Scene& scene, std::vector<std::string>& warnings)
     } else {
       m = boxMedium(d);
     }
-    m.interpolation = interp;
+    m.interpolation = interpolation;
     m.phase = PhaseFunction::make(d.phase, d.g);
     set.media_.push_back(std::move(m));
   }

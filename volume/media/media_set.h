@@ -11,9 +11,11 @@ namespace lvox {
 class MediaSet {
  public:
   MediaSet() = default;
-  // Builds every medium of the scene; problems that do not stop the render (negative
-  // voxels clamped, empty grids) are appended to `warnings`.
-  static MediaSet build(const Scene& scene, std::vector<std::string>& warnings);
+  // Builds every described medium (reading VDB grids, sampled with `interpolation`);
+  // problems that do not stop the render (negative voxels clamped, empty grids) are
+  // appended to `warnings`.
+  static MediaSet build(const std::vector<MediumDesc>& media, Interpolation interpolation,
+                        std::vector<std::string>& warnings);
 
   bool empty() const { return media_.empty(); }
   size_t size() const { return media_.size(); }
@@ -34,6 +36,9 @@ class MediaSet {
  private:
   std::vector<Medium> media_;
 };
+
+// At most this many media are evaluated per point (no allocation in the hot path).
+inline constexpr size_t kMaxMedia = 8;
 
 // Sorts and merges overlapping or touching intervals in place.
 void mergeIntervals(std::vector<std::pair<float, float>>& intervals);

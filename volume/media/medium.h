@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "src/scene/scene.h"
 #include "volume/media/dense_grid.h"
+#include "volume/media/medium_desc.h"
 #include "volume/phase.h"
 
 namespace lvox {

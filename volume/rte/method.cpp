@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "src/core/error.h"
+#include "src/core/names.h"
 
 namespace lvox::rte {
 namespace {
@@ -51,14 +52,16 @@ const MethodInfo& info(Method m) {
   return kInfo[0];  // unreachable: every enumerator has a row
 }
 
-constexpr std::string_view kSamplingNames[] = {"none", "distance", "equiangular"};
+constexpr Named<Sampling> kSamplingNames[] = {{Sampling::kNone, "none"},
+                                              {Sampling::kDistance, "distance"},
+                                              {Sampling::kEquiangular, "equiangular"}};
 
 }  // namespace
 
 std::string_view methodName(Method m) { return info(m).name; }
 int methodOrder(Method m) { return info(m).order; }
 double stepLimit(Method m) { return info(m).limit; }
-std::string_view samplingName(Sampling s) { return kSamplingNames[static_cast<int>(s)]; }
+std::string_view samplingName(Sampling s) { return nameOf(s, kSamplingNames); }
 
 bool isAdaptive(Method m) {
   switch (m) {
@@ -93,11 +96,7 @@ Method parseMethod(std::string_view name, const std::string& file, const std::st
 }
 
 Sampling parseSampling(std::string_view name, const std::string& file, const std::string& field) {
-  for (int i = 0; i < 3; ++i)
-    if (kSamplingNames[i] == name) return static_cast<Sampling>(i);
-  throw InputError(
-      file, field,
-      "unknown sampling '" + std::string(name) + "' (valid: none, distance, equiangular)");
+  return parseNamed(name, kSamplingNames, "sampling", file, field);
 }
 
 }  // namespace lvox::rte

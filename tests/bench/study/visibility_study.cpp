@@ -42,12 +42,13 @@ const char* const kClassNames[kClasses] = {"cloud finds no disk", "cloud stops n
 
 int run(const char* scenePath, int targetSurfels, float offset) {
   const Scene scene = loadScene(scenePath);
-  const float spacing = static_cast<float>(std::sqrt(scene.mesh.area() / targetSurfels));
-  const RayTracer tracer(scene.mesh);
-  const LightSet lights(scene, scene.render.areaLightSamples);
-  const RenderContext ctx{scene, tracer, lights};
-  SurfelSet surfels = sampleSurfelsUniform(scene.mesh, scene.materials, {spacing, 1.15f, 1});
-  removeBuriedSurfels(surfels, tracer, {4.0f * spacing, 16, 1, scene.camera.position});
+  const float spacing = static_cast<float>(std::sqrt(scene.world.mesh.area() / targetSurfels));
+  const RayTracer tracer(scene.world.mesh);
+  const LightSet lights(scene.world, scene.render.areaLightSamples);
+  const RenderContext ctx{scene.world, scene.render, tracer, lights};
+  SurfelSet surfels =
+      sampleSurfelsUniform(scene.world.mesh, scene.world.materials, {spacing, 1.15f, 1});
+  removeBuriedSurfels(surfels, tracer, {4.0f * spacing, 16, 1, scene.world.camera.position});
   PointCloud cloud(std::move(surfels), LvoxelSet{});
   auto unattenuated = [](const Ray&) { return RGB(1.0f); };
   cacheDirectLight(
@@ -67,11 +68,11 @@ int run(const char* scenePath, int targetSurfels, float offset) {
   double passedThrough[3] = {};
   const int rows = 16, cols = 16;
   TraversalScratch scratch;
-  for (int py = 8; py < scene.camera.height; py += 16)
-    for (int px = 8; px < scene.camera.width; px += 16) {
+  for (int py = 8; py < scene.world.camera.height; py += 16)
+    for (int px = 8; px < scene.world.camera.width; px += 16) {
       SurfaceHit hit;
-      const Ray cameraRay =
-          scene.camera.generateRay(static_cast<float>(px) + 0.5f, static_cast<float>(py) + 0.5f);
+      const Ray cameraRay = scene.world.camera.generateRay(static_cast<float>(px) + 0.5f,
+                                                           static_cast<float>(py) + 0.5f);
       if (!tracer.intersect(cameraRay, hit)) continue;
       const Frame frame(hit.normal);
       Rng rng(1, static_cast<uint64_t>(py) * 100000 + px);
@@ -83,7 +84,8 @@ int run(const char* scenePath, int targetSurfels, float offset) {
           SurfaceHit real;
           if (!tracer.intersect(ctx.spawn(hit.point, hit.normal, dir), real)) continue;
           uint64_t rays = 0;
-          const Material& m = scene.materials[scene.mesh.triangleMaterial[real.triangle]];
+          const Material& m =
+              scene.world.materials[scene.world.mesh.triangleMaterial[real.triangle]];
           const RGB exact = surfaceDirect(ctx, real, m.albedo, rng, unattenuated, rays);
           FirstDisk disk;
           traverse(cloud, Ray{hit.point, dir, offset * spacing, kInf}, disk, TraversalOptions{},
@@ -98,9 +100,10 @@ int run(const char* scenePath, int targetSurfels, float offset) {
           if (c == kFarther) {
             // Through what: a surface within the ray offset, a small triangle (random
             // surfels), or a lattice triangle.
-            const Vec3 v0 = scene.mesh.vertex(real.triangle, 0);
-            const float triArea = 0.5f * length(cross(scene.mesh.vertex(real.triangle, 1) - v0,
-                                                      scene.mesh.vertex(real.triangle, 2) - v0));
+            const Vec3 v0 = scene.world.mesh.vertex(real.triangle, 0);
+            const float triArea =
+                0.5f * length(cross(scene.world.mesh.vertex(real.triangle, 1) - v0,
+                                    scene.world.mesh.vertex(real.triangle, 2) - v0));
             const int through = real.t < offset * spacing                          ? 0
                                 : triArea < kLatticeMinSurfels * spacing * spacing ? 1
                                                                                    : 2;

@@ -5,10 +5,11 @@
 #include <fstream>
 
 #include "src/core/error.h"
+#include "src/core/json_fields.h"
 #include "src/core/rng.h"
-#include "src/scene/scene_loader.h"
 #include "test_util.h"
 #include "volume/media/media_set.h"
+#include "volume/media/medium_desc.h"
 #include "volume/phase.h"
 
 namespace lvox {
@@ -35,17 +36,32 @@ void writeGrid(const fs::path& path, int n, double voxel, F f, const std::string
   openvdb::io::File(path.string()).write({grid});
 }
 
-Scene sceneWithVdb(const fs::path& dir, const std::string& file, const std::string& extra = "") {
-  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,-5], "look_at": [0,0,0]},
-    "media": [{"type": "vdb", "file": ")" +
-                                      file + R"(", "density_scale": 2)" + extra + "}]}");
-  return loadScene((dir / "s.json").string());
+// A scene file's "media" array, parsed by the volume library as the scene loader does
+// (relative file names resolve against `dir`).
+std::vector<MediumDesc> parseMediaArray(const fs::path& dir, const std::string& text) {
+  const nlohmann::json array = nlohmann::json::parse(text);
+  std::vector<MediumDesc> out;
+  for (size_t i = 0; i < array.size(); ++i)
+    out.push_back(parseMedium(
+        JsonObject(array[i], (dir / "s.json").string(), "media[" + std::to_string(i) + "]")));
+  return out;
 }
 
-std::string buildError(const Scene& scene) {
+std::vector<MediumDesc> vdbMedium(const fs::path& dir, const std::string& file,
+                                  const std::string& extra = "") {
+  return parseMediaArray(
+      dir, R"([{"type": "vdb", "file": ")" + file + R"(", "density_scale": 2)" + extra + "}]");
+}
+
+MediaSet build(const std::vector<MediumDesc>& media, std::vector<std::string>& warnings,
+               Interpolation interpolation = Interpolation::Trilinear) {
+  return MediaSet::build(media, interpolation, warnings);
+}
+
+std::string buildError(const std::vector<MediumDesc>& media) {
   std::vector<std::string> warnings;
   try {
-    MediaSet::build(scene, warnings);
+    build(media, warnings);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -58,9 +74,9 @@ TEST(Media, TrilinearReproducesALinearFieldExactly) {
     return 1.0f + 0.5f * static_cast<float>(i) + 0.25f * static_cast<float>(j) +
            0.125f * static_cast<float>(k);
   });
-  Scene scene = sceneWithVdb(dir, "ramp.vdb", R"(, "transform": {"translate": [1, 2, 3]})");
+  const auto descs = vdbMedium(dir, "ramp.vdb", R"(, "transform": {"translate": [1, 2, 3]})");
   std::vector<std::string> warnings;
-  const MediaSet media = MediaSet::build(scene, warnings);
+  const MediaSet media = build(descs, warnings);
   ASSERT_EQ(media.size(), 1u);
   // World p -> index (p - translate) / 0.5; sigma_t = 2 * density.
   for (const Vec3& p : {Vec3(2.3f, 3.7f, 5.1f), Vec3(4.9f, 6.1f, 3.3f), Vec3(1.25f, 2.75f, 6.6f)}) {
@@ -73,11 +89,10 @@ TEST(Media, TrilinearReproducesALinearFieldExactly) {
 TEST(Media, RotatedGridAndNearestLookup) {
   const auto dir = test::tempDir();
   writeGrid(dir / "g.vdb", 8, 1.0, [](int i, int, int) { return static_cast<float>(i + 1); });
-  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,-5], "look_at": [0,0,0]},
-    "volume_integrator": {"interpolation": "nearest"},
-    "media": [{"type": "vdb", "file": "g.vdb", "transform": {"rotate": {"axis": [0,0,1], "deg": 90}}}]})");
   std::vector<std::string> warnings;
-  const MediaSet media = MediaSet::build(loadScene((dir / "s.json").string()), warnings);
+  const MediaSet media = build(parseMediaArray(dir, R"([{"type": "vdb", "file": "g.vdb",
+    "transform": {"rotate": {"axis": [0,0,1], "deg": 90}}}])"),
+                               warnings, Interpolation::Nearest);
   // Rotating 90 deg about z maps index x to world y: voxel i=3 (density 4) is at world y=3.
   EXPECT_FLOAT_EQ(media.at(Vec3(-2.0f, 3.1f, 2.0f)).sigmaT().x, 4.0f);
   EXPECT_FLOAT_EQ(media.at(Vec3(-2.0f, 5.4f, 2.0f)).sigmaT().x, 6.0f);  // voxel centres at integers
@@ -90,9 +105,8 @@ TEST(Media, IntervalsSkipEmptySpaceBetweenBlobs) {
     const bool inY = j >= 20 && j < 24 && k >= 20 && k < 24;
     return inY && (i < 4 || (i >= 40 && i < 44)) ? 1.0f : 0.0f;
   });
-  Scene scene = sceneWithVdb(dir, "two.vdb");
   std::vector<std::string> warnings;
-  const MediaSet media = MediaSet::build(scene, warnings);
+  const MediaSet media = build(vdbMedium(dir, "two.vdb"), warnings);
   Ray ray;
   ray.origin = Vec3(-10.0f, 21.5f, 21.5f);
   ray.dir = Vec3(1, 0, 0);
@@ -111,18 +125,18 @@ TEST(Media, IntervalsSkipEmptySpaceBetweenBlobs) {
 
 TEST(Media, LoadErrorsNameFileAndField) {
   const auto dir = test::tempDir();
-  EXPECT_NE(buildError(sceneWithVdb(dir, "missing.vdb")).find("missing.vdb"), std::string::npos);
+  EXPECT_NE(buildError(vdbMedium(dir, "missing.vdb")).find("missing.vdb"), std::string::npos);
   test::writeFile(dir / "junk.vdb", std::string(4096, 'x'));
-  const std::string junk = buildError(sceneWithVdb(dir, "junk.vdb"));
+  const std::string junk = buildError(vdbMedium(dir, "junk.vdb"));
   EXPECT_NE(junk.find("media[0].grid"), std::string::npos) << junk;
   EXPECT_NE(junk.find("not a readable OpenVDB"), std::string::npos) << junk;
   writeGrid(
       dir / "named.vdb", 4, 1.0, [](int, int, int) { return 1.0f; }, "smoke");
-  const std::string wrong = buildError(sceneWithVdb(dir, "named.vdb"));
+  const std::string wrong = buildError(vdbMedium(dir, "named.vdb"));
   EXPECT_NE(wrong.find("'smoke' (float)"), std::string::npos) << wrong;  // lists the grids
   writeGrid(
       dir / "ls.vdb", 4, 1.0, [](int, int, int) { return 1.0f; }, "density", true);
-  EXPECT_NE(buildError(sceneWithVdb(dir, "ls.vdb")).find("level set"), std::string::npos);
+  EXPECT_NE(buildError(vdbMedium(dir, "ls.vdb")).find("level set"), std::string::npos);
 }
 
 TEST(Media, TruncatedAndCorruptRealVdb) {
@@ -133,7 +147,7 @@ TEST(Media, TruncatedAndCorruptRealVdb) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (size_t k : {1u, 8u, 15u}) {
     test::writeFile(dir / "cut.vdb", bytes.substr(0, bytes.size() * k / 16));
-    EXPECT_NE(buildError(sceneWithVdb(dir, "cut.vdb")), "") << k << "/16";
+    EXPECT_NE(buildError(vdbMedium(dir, "cut.vdb")), "") << k << "/16";
   }
 }
 
@@ -141,31 +155,30 @@ TEST(Media, Vec3GridIsRejected) {
   const std::string plume = std::string(LVOX_SHARED_DIR) + "/assets/vdb/blender_smoke_plume.vdb";
   if (!fs::exists(plume)) GTEST_SKIP() << "shared assets absent";
   const auto dir = test::tempDir();
-  const std::string msg = buildError(sceneWithVdb(dir, plume, R"(, "grid": "velocity")"));
+  const std::string msg = buildError(vdbMedium(dir, plume, R"(, "grid": "velocity")"));
   EXPECT_NE(msg.find("float grid"), std::string::npos) << msg;
   // The density grid of the same file loads.
-  EXPECT_EQ(buildError(sceneWithVdb(dir, plume)), "");
+  EXPECT_EQ(buildError(vdbMedium(dir, plume)), "");
 }
 
 TEST(Media, NegativeVoxelsAreClampedAndNaNIsAnError) {
   const auto dir = test::tempDir();
   writeGrid(dir / "neg.vdb", 4, 1.0, [](int i, int, int) { return i == 0 ? -1.0f : 1.0f; });
   std::vector<std::string> warnings;
-  const MediaSet media = MediaSet::build(sceneWithVdb(dir, "neg.vdb"), warnings);
+  const MediaSet media = build(vdbMedium(dir, "neg.vdb"), warnings);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("16 negative voxels"), std::string::npos) << warnings[0];
   EXPECT_GE(media.at(Vec3(0.0f, 1.0f, 1.0f)).sigmaT().x, 0.0f);
   writeGrid(dir / "nan.vdb", 4, 1.0, [](int i, int, int) { return i == 1 ? NAN : 1.0f; });
-  EXPECT_NE(buildError(sceneWithVdb(dir, "nan.vdb")).find("NaN"), std::string::npos);
+  EXPECT_NE(buildError(vdbMedium(dir, "nan.vdb")).find("NaN"), std::string::npos);
 }
 
 TEST(Media, OverlappingBoxesAdd) {
-  Scene scene = parseScene(R"({"camera": {"position": [0,0,-5], "look_at": [0,0,0]},
-    "media": [{"type": "homogeneous", "min": [0,0,0], "max": [2,2,2], "sigma_a": 0.5, "sigma_s": 1},
-              {"type": "homogeneous", "min": [1,1,1], "max": [3,3,3], "sigma_a": 0.25, "sigma_s": 0}]})",
-                           "/tmp/m.json");
   std::vector<std::string> warnings;
-  const MediaSet media = MediaSet::build(scene, warnings);
+  const MediaSet media = build(parseMediaArray("/tmp", R"([
+    {"type": "homogeneous", "min": [0,0,0], "max": [2,2,2], "sigma_a": 0.5, "sigma_s": 1},
+    {"type": "homogeneous", "min": [1,1,1], "max": [3,3,3], "sigma_a": 0.25, "sigma_s": 0}])"),
+                               warnings);
   EXPECT_FLOAT_EQ(media.at(Vec3(1.5f)).sigmaT().x, 1.75f);
   EXPECT_FLOAT_EQ(media.at(Vec3(0.5f)).sigmaT().x, 1.5f);
   EXPECT_FLOAT_EQ(media.at(Vec3(2.5f)).sigmaA.x, 0.25f);
@@ -192,21 +205,21 @@ double sphereIntegral(const PhaseFunction& p, int power) {
 
 TEST(Phase, NormalisedWithTheRightMeanCosine) {
   for (float g : {-0.7f, -0.2f, 0.3f, 0.8f}) {
-    const PhaseFunction hg = PhaseFunction::make("hg", g);
+    const PhaseFunction hg = PhaseFunction::make(PhaseKind::HenyeyGreenstein, g);
     EXPECT_NEAR(sphereIntegral(hg, 0), 1.0, 1e-4) << g;
     EXPECT_NEAR(sphereIntegral(hg, 1), g, 1e-3) << g;
-    const PhaseFunction schlick = PhaseFunction::make("schlick", g);
+    const PhaseFunction schlick = PhaseFunction::make(PhaseKind::Schlick, g);
     EXPECT_NEAR(sphereIntegral(schlick, 0), 1.0, 1e-4) << g;
     // Schlick's k = 1.55 g - 0.55 g^3 fit is approximate: measured mean cosines are
     // 0.873 for g = 0.8 and -0.760 for g = -0.7 (about 9 % strong), hence 0.08.
     EXPECT_NEAR(sphereIntegral(schlick, 1), g, 0.08) << g;
   }
-  EXPECT_NEAR(sphereIntegral(PhaseFunction::make("isotropic", 0.0f), 0), 1.0, 1e-6);
+  EXPECT_NEAR(sphereIntegral(PhaseFunction::make(PhaseKind::Isotropic, 0.0f), 0), 1.0, 1e-6);
 }
 
 TEST(Phase, SamplingFollowsTheFunction) {
-  for (const char* name : {"hg", "schlick"}) {
-    const PhaseFunction p = PhaseFunction::make(name, 0.6f);
+  for (const PhaseKind kind : {PhaseKind::HenyeyGreenstein, PhaseKind::Schlick}) {
+    const PhaseFunction p = PhaseFunction::make(kind, 0.6f);
     Rng rng(3, 4);
     const Vec3 wIn = normalize(Vec3(0.3f, -0.5f, 0.8f));
     double meanCos = 0.0;
@@ -219,7 +232,7 @@ TEST(Phase, SamplingFollowsTheFunction) {
       meanCos += c;
     }
     // The sample mean of cos matches the integral (std error ~ 0.5/sqrt(n) = 1e-3).
-    EXPECT_NEAR(meanCos / n, sphereIntegral(p, 1), 5e-3) << name;
+    EXPECT_NEAR(meanCos / n, sphereIntegral(p, 1), 5e-3) << static_cast<int>(kind);
   }
 }
 

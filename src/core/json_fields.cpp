@@ -1,12 +1,14 @@
-#include "src/scene/json_fields.h"
+#include "src/core/json_fields.h"
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace lvox {
 
-JsonObject::JsonObject(const nlohmann::json& value, std::string file, std::string path)
-    : value_(value), file_(std::move(file)), path_(std::move(path)) {
+JsonObject::JsonObject(const nlohmann::json& value, std::string file, std::string path,
+                       std::shared_ptr<const FlagSources> flags)
+    : value_(value), file_(std::move(file)), path_(std::move(path)), flags_(std::move(flags)) {
   if (!value_.is_object())
     throw InputError(file_, path_.empty() ? "(top level)" : path_, "must be an object");
 }
@@ -15,8 +17,18 @@ std::string JsonObject::fieldPath(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
+ValueSource JsonObject::source(const std::string& key) const {
+  const std::string field = fieldPath(key);
+  if (flags_) {
+    auto it = flags_->find(field);
+    if (it != flags_->end()) return {it->second, ""};
+  }
+  return {file_, field};
+}
+
 void JsonObject::fail(const std::string& key, const std::string& what) const {
-  throw InputError(file_, fieldPath(key), what);
+  const ValueSource src = source(key);
+  throw InputError(src.file, src.field, what);
 }
 
 bool JsonObject::has(const std::string& key) const { return value_.contains(key); }
@@ -45,14 +57,18 @@ float JsonObject::number(const std::string& key, std::optional<float> fallback) 
   return toFinite(lookup(key), key);
 }
 
+void checkRange(float value, NumberRange range, const std::string& file, const std::string& field) {
+  if (value >= range.lo && value <= range.hi) return;
+  std::ostringstream s;
+  s << "value " << value << " is outside [" << range.lo << ", " << range.hi << "]";
+  throw InputError(file, field, s.str());
+}
+
 float JsonObject::number(const std::string& key, float lo, float hi,
                          std::optional<float> fallback) {
   const float v = number(key, fallback);
-  if (v < lo || v > hi) {
-    std::ostringstream s;
-    s << "value " << v << " is outside [" << lo << ", " << hi << "]";
-    fail(key, s.str());
-  }
+  const ValueSource src = source(key);
+  checkRange(v, {lo, hi}, src.file, src.field);
   return v;
 }
 
@@ -116,8 +132,24 @@ RGB JsonObject::rgb(const std::string& key, float lo, float hi, std::optional<RG
   return c;
 }
 
+std::vector<std::string> JsonObject::keys() {
+  std::vector<std::string> out;
+  for (auto it = value_.begin(); it != value_.end(); ++it) {
+    used_.insert(it.key());
+    out.push_back(it.key());
+  }
+  return out;
+}
+
+std::string JsonObject::filePath(const std::string& key) {
+  namespace fs = std::filesystem;
+  const fs::path p(string(key));
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(file_).parent_path() / p).lexically_normal().string();
+}
+
 JsonObject JsonObject::object(const std::string& key) {
-  return JsonObject(lookup(key), file_, fieldPath(key));
+  return JsonObject(lookup(key), file_, fieldPath(key), flags_);
 }
 
 std::vector<nlohmann::json> JsonObject::array(const std::string& key, bool required) {
@@ -133,6 +165,43 @@ std::vector<nlohmann::json> JsonObject::array(const std::string& key, bool requi
 void JsonObject::finish() const {
   for (auto it = value_.begin(); it != value_.end(); ++it)
     if (!used_.count(it.key())) fail(it.key(), "unknown field (misspelled?)");
+}
+
+Transform parseTransform(JsonObject& parent, const std::string& key) {
+  if (!parent.has(key)) return Transform();
+  JsonObject t = parent.object(key);
+  Transform xf;
+  if (t.has("matrix")) {
+    const std::vector<nlohmann::json> m = t.array("matrix", true);
+    if (m.size() != 16) t.fail("matrix", "expected 16 numbers (row-major)");
+    for (int i = 0; i < 16; ++i) {
+      if (!m[static_cast<size_t>(i)].is_number()) t.fail("matrix", "expected 16 numbers");
+      xf.m[i / 4][i % 4] = m[static_cast<size_t>(i)].get<float>();
+    }
+    if (xf.m[3][0] != 0 || xf.m[3][1] != 0 || xf.m[3][2] != 0 || xf.m[3][3] != 1)
+      t.fail("matrix", "the last row must be [0, 0, 0, 1] (affine transforms only)");
+  } else {
+    Vec3 s(1.0f);
+    if (t.has("scale")) {
+      const nlohmann::json& sv = t.raw("scale");
+      s = sv.is_number() ? Vec3(sv.get<float>()) : t.vec3("scale");
+    }
+    Transform r;
+    if (t.has("rotate")) {
+      JsonObject rot = t.object("rotate");
+      const Vec3 axis = rot.vec3("axis");
+      if (length(axis) == 0.0f) rot.fail("axis", "must not be zero");
+      r = Transform::rotate(axis, rot.number("deg"));
+      rot.finish();
+    }
+    const Vec3 tr = t.vec3("translate", Vec3(0.0f));
+    xf = Transform::translate(tr) * r * Transform::scale(s);
+  }
+  t.finish();
+  const float det = xf.determinant3();
+  if (!std::isfinite(det) || std::abs(det) < 1e-12f)
+    parent.fail(key, "the transform is singular (zero scale?)");
+  return xf;
 }
 
 }  // namespace lvox

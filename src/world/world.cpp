@@ -1,4 +1,4 @@
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 
 namespace lvox {
 
@@ -26,7 +26,7 @@ float Light::spotFactor(const Vec3& dirFromLight) const {
   return x * x * (3.0f - 2.0f * x);
 }
 
-Bounds3 Scene::bounds() const {
+Bounds3 World::bounds() const {
   Bounds3 b;
   for (const Vec3& p : mesh.positions) b.extend(p);
   return b;

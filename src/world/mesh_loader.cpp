@@ -1,4 +1,4 @@
-#include "src/scene/mesh_loader.h"
+#include "src/world/mesh_loader.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -22,12 +22,12 @@ void requireReadable(const std::string& path, const std::string& field) {
   if (!in) throw InputError(path, field, std::string("cannot open: ") + std::strerror(errno));
 }
 
-uint32_t materialIndex(Scene& scene, const std::string& name, const RGB& albedo,
+uint32_t materialIndex(World& world, const std::string& name, const RGB& albedo,
                        const RGB& emission) {
-  for (size_t i = 0; i < scene.materials.size(); ++i)
-    if (scene.materials[i].name == name) return static_cast<uint32_t>(i);
-  scene.materials.push_back(Material{name, albedo, emission});
-  return static_cast<uint32_t>(scene.materials.size() - 1);
+  for (size_t i = 0; i < world.materials.size(); ++i)
+    if (world.materials[i].name == name) return static_cast<uint32_t>(i);
+  world.materials.push_back(Material{name, albedo, emission});
+  return static_cast<uint32_t>(world.materials.size() - 1);
 }
 
 float clampAlbedo(float v) { return std::clamp(v, 0.0f, 1.0f); }
@@ -88,7 +88,7 @@ bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c
 }
 
 MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
-                      const std::string& materialOverride, Scene& scene) {
+                      std::optional<uint32_t> materialOverride, World& world) {
   requireReadable(path, field);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -106,33 +106,22 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
   // Scene material for each MTL material (or the override for all).
   std::vector<uint32_t> mtlToScene;
   const std::string stem = std::filesystem::path(path).stem().string();
-  uint32_t overrideIndex = 0;
-  if (!materialOverride.empty()) {
-    bool found = false;
-    for (size_t i = 0; i < scene.materials.size(); ++i)
-      if (scene.materials[i].name == materialOverride) {
-        overrideIndex = static_cast<uint32_t>(i);
-        found = true;
-      }
-    if (!found)
-      throw InputError(scene.path, field + ".material",
-                       "unknown material '" + materialOverride + "'");
-  } else {
+  if (!materialOverride) {
     for (const tinyobj::material_t& m : reader.GetMaterials()) {
       const RGB kd(clampAlbedo(m.diffuse[0]), clampAlbedo(m.diffuse[1]), clampAlbedo(m.diffuse[2]));
       const RGB ke(std::max(0.0f, m.emission[0]), std::max(0.0f, m.emission[1]),
                    std::max(0.0f, m.emission[2]));
-      mtlToScene.push_back(materialIndex(scene, stem + "/" + m.name, kd, ke));
+      mtlToScene.push_back(materialIndex(world, stem + "/" + m.name, kd, ke));
     }
   }
   const uint32_t defaultMaterial =
-      materialOverride.empty() ? materialIndex(scene, stem + "/(default)", RGB(0.8f), RGB(0.0f))
-                               : overrideIndex;
+      materialOverride ? *materialOverride
+                       : materialIndex(world, stem + "/(default)", RGB(0.8f), RGB(0.0f));
 
   MeshLoadStats stats;
-  std::vector<Vec3> world(vertexCount);
+  std::vector<Vec3> transformed(vertexCount);
   for (size_t i = 0; i < vertexCount; ++i)
-    world[i] = xf.point(
+    transformed[i] = xf.point(
         Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]));
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& idx = shape.mesh.indices;
@@ -145,13 +134,13 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
                            "face in object '" + shape.name + "' refers to vertex " +
                                std::to_string(vi + 1) + " but the file has " +
                                std::to_string(vertexCount));
-        p[k] = world[static_cast<size_t>(vi)];
+        p[k] = transformed[static_cast<size_t>(vi)];
       }
       const int mid = shape.mesh.material_ids[f / 3];
       uint32_t material = defaultMaterial;
-      if (materialOverride.empty() && mid >= 0 && static_cast<size_t>(mid) < mtlToScene.size())
+      if (!materialOverride && mid >= 0 && static_cast<size_t>(mid) < mtlToScene.size())
         material = mtlToScene[static_cast<size_t>(mid)];
-      if (addTriangle(scene.mesh, p[0], p[1], p[2], material))
+      if (addTriangle(world.mesh, p[0], p[1], p[2], material))
         ++stats.triangles;
       else
         ++stats.skippedDegenerate;
@@ -162,7 +151,7 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
 }
 
 MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
-                      uint32_t material, Scene& scene) {
+                      uint32_t material, World& world) {
   requireReadable(path, field);
   checkPlyHeader(path, field);
   Assimp::Importer importer;
@@ -187,7 +176,7 @@ MeshLoadStats loadPly(const std::string& path, const std::string& field, const T
         const aiVector3D& v = mesh->mVertices[vi];
         p[k] = xf.point(Vec3(v.x, v.y, v.z));
       }
-      if (addTriangle(scene.mesh, p[0], p[1], p[2], material))
+      if (addTriangle(world.mesh, p[0], p[1], p[2], material))
         ++stats.triangles;
       else
         ++stats.skippedDegenerate;

@@ -1,8 +1,9 @@
 #pragma once
-// Loads triangle meshes (OBJ with MTL colours, PLY) into the scene's world-space mesh.
+// Loads triangle meshes (OBJ with MTL colours, PLY) into the world's mesh.
+#include <optional>
 #include <string>
 
-#include "src/scene/scene.h"
+#include "src/world/world.h"
 
 namespace lvox {
 
@@ -11,15 +12,15 @@ struct MeshLoadStats {
   size_t skippedDegenerate = 0;  // zero-area or non-finite triangles, not added
 };
 
-// Appends the OBJ's triangles, transformed, to `scene.mesh`. Each MTL material becomes a
-// scene material named "<file stem>/<mtl name>" with albedo Kd (and emission Ke), unless
-// `materialOverride` names a scene material to use for every triangle.
+// Appends the OBJ's triangles, transformed, to `world.mesh`. Each MTL material becomes a
+// world material named "<file stem>/<mtl name>" with albedo Kd (and emission Ke), unless
+// `materialOverride` is the index of a material to use for every triangle.
 MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
-                      const std::string& materialOverride, Scene& scene);
+                      std::optional<uint32_t> materialOverride, World& world);
 
 // Appends the PLY's triangles (polygons are triangulated), all with `material`.
 MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
-                      uint32_t material, Scene& scene);
+                      uint32_t material, World& world);
 
 // Adds one triangle unless it is degenerate or non-finite; returns whether it was added.
 bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c,

@@ -1,0 +1,55 @@
+#include "pointcloud/pointcloud_settings.h"
+
+#include "src/core/math.h"
+#include "src/core/names.h"
+
+namespace lvox {
+namespace {
+
+constexpr Named<GatherVisibility> kVisibilityNames[] = {{GatherVisibility::kCloud, "cloud"},
+                                                        {GatherVisibility::kRays, "rays"}};
+constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUniform, "uniform"},
+                                                      {SurfelSamplerKind::kCamera, "camera"}};
+
+}  // namespace
+
+GatherVisibility parseGatherVisibility(std::string_view name, const std::string& file,
+                                       const std::string& field) {
+  return parseNamed(name, kVisibilityNames, "visibility", file, field);
+}
+
+std::string_view gatherVisibilityName(GatherVisibility v) { return nameOf(v, kVisibilityNames); }
+
+SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& file,
+                                     const std::string& field) {
+  return parseNamed(name, kSamplerNames, "sampler", file, field);
+}
+
+std::string_view surfelSamplerName(SurfelSamplerKind s) { return nameOf(s, kSamplerNames); }
+
+PointCloudSettings parsePointCloudSettings(JsonObject p) {
+  PointCloudSettings s;
+  s.surfelSpacing = p.number("surfel_spacing", 0.0f, 1e9f, s.surfelSpacing);
+  s.lvoxelSpacing = p.number("lvoxel_spacing", 0.0f, 1e9f, s.lvoxelSpacing);
+  s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
+  s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
+  s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
+  s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
+  s.bounces = p.integer("bounces", 0, 1024, s.bounces);
+  s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
+  s.gatherVisibility =
+      p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
+               parseGatherVisibility);
+  s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
+  s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
+  s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
+                             parseSurfelSampler);
+  s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
+  s.lvoxelClusterSolidAngle =
+      p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi, s.lvoxelClusterSolidAngle);
+  s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
+  p.finish();
+  return s;
+}
+
+}  // namespace lvox

@@ -1,0 +1,45 @@
+#pragma once
+// Settings of the point cloud (the scene file's "pointcloud" section), typed, with their
+// parser beside them. Docs: docs/scene-format.md and docs/pointcloud.md.
+#include <string>
+#include <string_view>
+
+#include "src/core/json_fields.h"
+
+namespace lvox {
+
+// How a gather ray finds the surface it sees: the first surfel disk of the cloud
+// (Gibson's point-based visibility), or the real surface by ray tracing.
+enum class GatherVisibility { kCloud, kRays };
+// Where surfels go: uniformly over all surfaces, or where the camera sees them.
+enum class SurfelSamplerKind { kUniform, kCamera };
+
+struct PointCloudSettings {
+  float surfelSpacing = 0.0f;  // 0: derived from the total surface area
+  int targetSurfels = 100000;  // used to derive the spacing when it is 0
+  SurfelSamplerKind surfelSampler = SurfelSamplerKind::kUniform;
+  float lvoxelSpacing = 0.0f;    // 0: derived from the medium size
+  int lvoxelSamples = 2;         // jittered samples per axis averaged per lvoxel
+  int lvoxelGatherSamples = 16;  // sphere rays per lvoxel and scattering pass
+  int bounces = 24;              // interreflection passes (surfels and lvoxels)
+  float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
+  GatherVisibility gatherVisibility = GatherVisibility::kCloud;
+  int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
+  int gatherSamples = 64;                 // gather rays per pixel (split over its samples)
+  int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
+  float gatherFilter = 3.0f;              // tent half-width over final gathers, in gathers
+  float lvoxelClusterSolidAngle = 0.03f;  // sr; the same for nodes holding lvoxels only
+  float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
+};
+
+// Reads the "pointcloud" object; unknown keys and out-of-range values throw.
+PointCloudSettings parsePointCloudSettings(JsonObject p);
+
+GatherVisibility parseGatherVisibility(std::string_view name, const std::string& file,
+                                       const std::string& field);
+std::string_view gatherVisibilityName(GatherVisibility v);
+SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& file,
+                                     const std::string& field);
+std::string_view surfelSamplerName(SurfelSamplerKind s);
+
+}  // namespace lvox

@@ -1,0 +1,38 @@
+#include "src/render/render_settings.h"
+
+#include <limits>
+
+#include "src/core/names.h"
+
+namespace lvox {
+namespace {
+
+constexpr Named<Mode> kModeNames[] = {{Mode::kPcb, "pcb"},
+                                      {Mode::kPcbSurfels, "pcb-surfels"},
+                                      {Mode::kDirect, "direct"},
+                                      {Mode::kMc, "mc"}};
+
+}  // namespace
+
+Mode parseMode(std::string_view name, const std::string& file, const std::string& field) {
+  return parseNamed(name, kModeNames, "mode", file, field);
+}
+
+std::string_view modeName(Mode mode) { return nameOf(mode, kModeNames); }
+std::string modeNames() { return namesOf(kModeNames); }
+
+RenderSettings parseRenderSettings(JsonObject r) {
+  RenderSettings s;
+  s.mode = r.choice("mode", std::string(modeName(s.mode)), parseMode);
+  s.spp = r.integer("spp", 1, 1 << 20, s.spp);
+  s.maxBounces = r.integer("max_bounces", 0, 1 << 16, s.maxBounces);
+  s.seed = static_cast<uint64_t>(
+      r.integer("seed", 0, std::numeric_limits<int>::max(), static_cast<int>(s.seed)));
+  s.areaLightSamples = r.integer("area_light_samples", 1, 1 << 16, s.areaLightSamples);
+  s.mediumLightSamples = r.integer("medium_light_samples", 1, 1 << 16, s.mediumLightSamples);
+  s.threads = r.integer("threads", 0, 1024, s.threads);
+  r.finish();
+  return s;
+}
+
+}  // namespace lvox

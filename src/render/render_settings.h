@@ -1,0 +1,36 @@
+#pragma once
+// Settings of a render (the scene file's "render" section and the --mode, --spp,
+// --max-bounces, --seed and --threads flags), typed, with their parser beside them.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "src/core/json_fields.h"
+
+namespace lvox {
+
+// pcb: point-based GI with lvoxels in media; pcb-surfels: the traditional baseline
+// (surfels only, exact single scattering in media); direct: direct light and single
+// scattering; mc: the unbiased path tracer everything is measured against.
+enum class Mode { kPcb, kPcbSurfels, kDirect, kMc };
+
+struct RenderSettings {
+  Mode mode = Mode::kPcb;
+  int spp = 4;
+  int maxBounces = 8;
+  uint64_t seed = 1;
+  int areaLightSamples = 16;   // shadow rays per area light (and environment) at a surface point
+  int mediumLightSamples = 1;  // the same at each medium evaluation (fixed along a camera ray)
+  int threads = 0;             // 0: all cores
+};
+
+// Reads the "render" object; unknown keys and out-of-range values throw.
+RenderSettings parseRenderSettings(JsonObject r);
+
+Mode parseMode(std::string_view name, const std::string& file, const std::string& field);
+std::string_view modeName(Mode mode);
+std::string modeNames();  // "pcb, pcb-surfels, direct, mc", for --help
+// The two-phase modes, which build a point cloud.
+inline bool isPointBased(Mode mode) { return mode == Mode::kPcb || mode == Mode::kPcbSurfels; }
+
+}  // namespace lvox

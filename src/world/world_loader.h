@@ -1,0 +1,19 @@
+#pragma once
+// The world's sections of a scene file: "camera", "materials", "shapes" (meshes are loaded
+// here) and "lights". Format: docs/scene-format.md.
+#include <string>
+#include <vector>
+
+#include "src/core/json_fields.h"
+#include "src/world/world.h"
+
+namespace lvox {
+
+Camera parseCamera(JsonObject c);
+// Appends one material per key of the "materials" object.
+void parseMaterials(JsonObject m, World& world);
+// Adds one shape's triangles; every file it reads is appended to `inputFiles`.
+void parseShape(JsonObject s, World& world, std::vector<std::string>& inputFiles);
+Light parseLight(JsonObject l);
+
+}  // namespace lvox

@@ -1,0 +1,52 @@
+#include "volume/volume_settings.h"
+
+#include "src/core/names.h"
+
+namespace lvox {
+namespace {
+
+constexpr std::string_view kAuto = "auto";
+constexpr Named<MajorantKind> kMajorantNames[] = {{MajorantKind::kGrid, "grid"},
+                                                  {MajorantKind::kGlobal, "global"}};
+
+}  // namespace
+
+std::optional<rte::Method> parseSolver(std::string_view name, const std::string& file,
+                                       const std::string& field) {
+  if (name == kAuto) return std::nullopt;
+  return rte::parseMethod(name, file, field, kAuto);
+}
+
+std::string_view solverName(const std::optional<rte::Method>& solver) {
+  return solver ? rte::methodName(*solver) : kAuto;
+}
+
+MajorantKind parseMajorant(std::string_view name, const std::string& file,
+                           const std::string& field) {
+  return parseNamed(name, kMajorantNames, "majorant", file, field);
+}
+
+std::string_view majorantName(MajorantKind m) { return nameOf(m, kMajorantNames); }
+
+VolumeSettings parseVolumeSettings(JsonObject v) {
+  VolumeSettings s;
+  s.solver = v.choice("solver", std::string(kAuto), parseSolver);
+  s.step = v.number("step", kStepRange, s.step);
+  s.tolerance = v.number("tolerance", kToleranceRange, s.tolerance);
+  s.minStep = v.number("min_step", 1e-9f, 1e9f, s.minStep);
+  s.maxStep = v.number("max_step", 1e-9f, 1e9f, s.maxStep);
+  if (s.minStep > s.maxStep) v.fail("min_step", "exceeds max_step");
+  s.interpolation = v.choice("interpolation", std::string(interpolationName(s.interpolation)),
+                             parseInterpolation);
+  s.sampling = v.choice("sampling", std::string(rte::samplingName(s.sampling)),
+                        [](std::string_view n, const std::string& f, const std::string& k) {
+                          return rte::parseSampling(n, f, k);
+                        });
+  s.maxEvaluations = static_cast<uint32_t>(
+      v.integer("max_evaluations", 1, 1 << 30, static_cast<int>(s.maxEvaluations)));
+  s.majorant = v.choice("majorant", std::string(majorantName(s.majorant)), parseMajorant);
+  v.finish();
+  return s;
+}
+
+}  // namespace lvox

@@ -1,0 +1,46 @@
+#pragma once
+// Settings of the volume integrator (the scene file's "volume_integrator" section and the
+// --solver, --step and --tol flags), typed, with their parser beside them.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "src/core/json_fields.h"
+#include "volume/media/dense_grid.h"
+#include "volume/rte/method.h"
+
+namespace lvox {
+
+// How free-flight sampling bounds sigma_t in mc mode: per 8^3 block of a VDB grid, or one
+// majorant per medium.
+enum class MajorantKind { kGrid, kGlobal };
+
+inline constexpr NumberRange kStepRange{1e-6f, 1e9f};  // scene units
+inline constexpr NumberRange kToleranceRange{1e-12f, 1.0f};
+
+struct VolumeSettings {
+  std::optional<rte::Method> solver;  // empty: "auto", chosen per ray segment
+  float step = 0.1f;                  // scene units
+  float tolerance = 1e-3f;
+  float minStep = 1e-4f;
+  float maxStep = 1.0f;
+  Interpolation interpolation = Interpolation::Trilinear;
+  rte::Sampling sampling = rte::Sampling::kNone;
+  uint32_t maxEvaluations = 100000;  // per ray segment, then degrade gracefully
+  MajorantKind majorant = MajorantKind::kGrid;
+};
+
+// Reads the "volume_integrator" object; unknown keys and out-of-range values throw.
+VolumeSettings parseVolumeSettings(JsonObject v);
+
+// "auto" (empty) or a method name of volume/rte/method.h.
+std::optional<rte::Method> parseSolver(std::string_view name, const std::string& file,
+                                       const std::string& field);
+std::string_view solverName(const std::optional<rte::Method>& solver);
+
+MajorantKind parseMajorant(std::string_view name, const std::string& file,
+                           const std::string& field);
+std::string_view majorantName(MajorantKind m);
+
+}  // namespace lvox
