@@ -113,6 +113,20 @@ struct Collision {
   size_t medium = 0;  // the medium whose phase function scatters
 };
 
+// The medium whose phase function scatters at x, picked in proportion to its sigma_s.
+size_t scatteringMedium(const MediaSet& media, const Vec3& x, float totalSigmaS, Rng& rng) {
+  if (media.size() <= 1) return 0;
+  size_t picked = 0;
+  float pick = rng.uniform() * totalSigmaS;
+  for (size_t i = 0; i < media.size(); ++i) {
+    if (!media[i].bounds.contains(x)) continue;
+    pick -= average(media[i].at(x).sigmaS);
+    picked = i;
+    if (pick <= 0.0f) break;
+  }
+  return picked;
+}
+
 // Weighted delta tracking along [0, tEnd]: updates the throughput for null and scattering
 // events (per channel, against channel-averaged event probabilities) and adds emission on
 // absorption. Returns where the path scatters or is absorbed, if it does.
@@ -122,53 +136,33 @@ Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd,
   thread_local std::vector<MajorantSegment> segs;
   tracker.segments(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, false, segs);
   const MediaSet& media = tracker.media();
-  for (const MajorantSegment& s : segs) {
-    float t = s.t0;
-    while (true) {
-      t -= std::log(1.0f - rng.uniform()) / s.majorant;
-      if (t >= s.t1) break;
-      const Vec3 x = ray.at(t);
-      MediumCoefficients total;
-      for (const Medium& m : media.media()) {
-        if (!m.bounds.contains(x)) continue;
-        const MediumCoefficients mc = m.at(x);
-        total.sigmaA += mc.sigmaA;
-        total.sigmaS += mc.sigmaS;
-        total.source += mc.source;
-      }
-      ++counters.lookups;
-      const float pA = average(total.sigmaA) / s.majorant;
-      const float pS = average(total.sigmaS) / s.majorant;
-      const float u = rng.uniform();
-      if (u < pA) {
-        radiance += throughput * total.source / (s.majorant * pA);
-        c.absorbed = true;
-        c.t = t;
-        return c;
-      }
-      if (u < pA + pS) {
-        throughput *= total.sigmaS / (s.majorant * pS);
-        c.scattered = true;
-        c.t = t;
-        // Pick the scattering medium in proportion to its sigma_s (its phase applies).
-        if (media.size() > 1) {
-          float pick = rng.uniform() * average(total.sigmaS);
-          for (size_t i = 0; i < media.size(); ++i) {
-            if (!media[i].bounds.contains(x)) continue;
-            pick -= average(media[i].at(x).sigmaS);
-            c.medium = i;
-            if (pick <= 0.0f) break;
-          }
-        }
-        return c;
-      }
-      const float pN = 1.0f - pA - pS;
-      const RGB sigmaN = RGB(s.majorant) - total.sigmaA - total.sigmaS;
-      throughput *=
-          RGB(std::max(0.0f, sigmaN.x), std::max(0.0f, sigmaN.y), std::max(0.0f, sigmaN.z)) /
-          (s.majorant * std::max(pN, 1e-12f));
+  forEachTentativeCollision(segs, rng, [&](float t, float majorant) {
+    const Vec3 x = ray.at(t);
+    const MediumCoefficients total = media.at(x);
+    ++counters.lookups;
+    const float pA = average(total.sigmaA) / majorant;
+    const float pS = average(total.sigmaS) / majorant;
+    const float u = rng.uniform();
+    if (u < pA) {
+      radiance += throughput * total.source / (majorant * pA);
+      c.absorbed = true;
+      c.t = t;
+      return false;
     }
-  }
+    if (u < pA + pS) {
+      throughput *= total.sigmaS / (majorant * pS);
+      c.scattered = true;
+      c.t = t;
+      c.medium = scatteringMedium(media, x, average(total.sigmaS), rng);
+      return false;
+    }
+    const float pN = 1.0f - pA - pS;
+    const RGB sigmaN = RGB(majorant) - total.sigmaA - total.sigmaS;
+    throughput *=
+        RGB(std::max(0.0f, sigmaN.x), std::max(0.0f, sigmaN.y), std::max(0.0f, sigmaN.z)) /
+        (majorant * std::max(pN, 1e-12f));
+    return true;
+  });
   return c;
 }
 

@@ -13,10 +13,7 @@ struct HeterogeneousExtinction {
   const MediaSet& media;
   const Ray& ray;
   rte::MediumSample<float> eval(float t) const {
-    const Vec3 x = ray.at(t);
-    RGB sigmaT(0.0f);
-    for (const Medium& m : media.media())
-      if (!m.homogeneous() && m.bounds.contains(x)) sigmaT += m.at(x).sigmaT();
+    const RGB sigmaT = media.heterogeneousSigmaT(ray.at(t));
     return {{sigmaT.x, sigmaT.y, sigmaT.z}, Channels(0.0f)};
   }
 };
@@ -78,23 +75,10 @@ SegmentPlan VolumeTransport::radiancePlan(const Ray& ray, float t0, float t1, fl
 RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) const {
   if (media_.empty()) return RGB(1.0f);
   const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
-  RGB tau(0.0f);
-  bool heterogeneous = false;
-  thread_local std::vector<std::pair<float, float>> spans;
-  for (const Medium& m : media_.media()) {
-    if (!m.homogeneous()) {
-      heterogeneous = true;
-      continue;
-    }
-    spans.clear();
-    m.intervals(ray, ray.tmin, tmax, spans);
-    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
-  }
-  if (heterogeneous) {
+  RGB tau = media_.homogeneousOpticalDepth(ray, ray.tmin, tmax);
+  if (media_.anyHeterogeneous()) {
     std::vector<std::pair<float, float>> hetero;
-    for (const Medium& m : media_.media())
-      if (!m.homogeneous()) m.intervals(ray, ray.tmin, tmax, hetero);
-    mergeIntervals(hetero);
+    media_.heterogeneousIntervals(ray, ray.tmin, tmax, hetero);
     const HeterogeneousExtinction problem{media_, ray};
     for (const auto& [a, b] : hetero) {
       const SegmentPlan plan = auto_ ? auto_->transmittance(ray, a, b)

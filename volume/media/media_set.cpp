@@ -79,6 +79,36 @@ MediumCoefficients MediaSet::at(const Vec3& p) const {
   return sum;
 }
 
+RGB MediaSet::heterogeneousSigmaT(const Vec3& p) const {
+  RGB sigmaT(0.0f);
+  for (const Medium& m : media_)
+    if (!m.homogeneous() && m.bounds.contains(p)) sigmaT += m.at(p).sigmaT();
+  return sigmaT;
+}
+
+RGB MediaSet::homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax) const {
+  RGB tau(0.0f);
+  thread_local std::vector<std::pair<float, float>> spans;
+  for (const Medium& m : media_) {
+    if (!m.homogeneous()) continue;
+    spans.clear();
+    m.intervals(ray, tmin, tmax, spans);
+    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
+  }
+  return tau;
+}
+
+void MediaSet::heterogeneousIntervals(const Ray& ray, float tmin, float tmax,
+                                      std::vector<std::pair<float, float>>& out) const {
+  const size_t first = out.size();
+  for (const Medium& m : media_)
+    if (!m.homogeneous()) m.intervals(ray, tmin, tmax, out);
+  std::vector<std::pair<float, float>> mine(out.begin() + static_cast<ptrdiff_t>(first), out.end());
+  mergeIntervals(mine);
+  out.resize(first);
+  out.insert(out.end(), mine.begin(), mine.end());
+}
+
 void mergeIntervals(std::vector<std::pair<float, float>>& v) {
   std::sort(v.begin(), v.end());
   size_t w = 0;

@@ -25,6 +25,14 @@ class MediaSet {
 
   // Sum of the coefficients of every medium at p.
   MediumCoefficients at(const Vec3& p) const;
+  // Sum of sigma_t of the heterogeneous media at p (homogeneous ones are done analytically).
+  RGB heterogeneousSigmaT(const Vec3& p) const;
+  bool anyHeterogeneous() const { return !allHomogeneous(); }
+  // Optical depth of the homogeneous media along [tmin, tmax] of the ray (exact).
+  RGB homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax) const;
+  // Sorted, merged t-intervals in [tmin, tmax] where a heterogeneous medium may be non-zero.
+  void heterogeneousIntervals(const Ray& ray, float tmin, float tmax,
+                              std::vector<std::pair<float, float>>& out) const;
   // Sorted, merged t-intervals in [tmin, tmax] where any medium may be non-zero.
   void intervals(const Ray& ray, float tmin, float tmax,
                  std::vector<std::pair<float, float>>& out) const;

@@ -1,4 +1,4 @@
-#include "src/render/majorant_tracker.h"
+#include "volume/media/majorant_tracker.h"
 
 #include <algorithm>
 #include <cmath>
@@ -62,41 +62,25 @@ void MajorantTracker::segments(const Ray& ray, float tmin, float tmax, bool hete
 RGB MajorantTracker::transmittance(const Ray& ray, Rng& rng, uint64_t& lookups) const {
   if (media_.empty()) return RGB(1.0f);
   const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
-  RGB tau(0.0f);
-  bool heterogeneous = false;
-  std::vector<std::pair<float, float>> spans;
-  for (const Medium& m : media_.media()) {
-    if (!m.homogeneous()) {
-      heterogeneous = true;
-      continue;
-    }
-    spans.clear();
-    m.intervals(ray, ray.tmin, tmax, spans);
-    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
-  }
+  const RGB tau = media_.homogeneousOpticalDepth(ray, ray.tmin, tmax);
   RGB tr(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
-  if (!heterogeneous) return tr;
+  if (!media_.anyHeterogeneous()) return tr;
   thread_local std::vector<MajorantSegment> segs;
   segments(ray, ray.tmin, tmax, true, segs);
-  for (const MajorantSegment& s : segs) {
-    float t = s.t0;
-    while (true) {
-      t -= std::log(1.0f - rng.uniform()) / s.majorant;
-      if (t >= s.t1) break;
-      const Vec3 x = ray.at(t);
-      RGB sigmaT(0.0f);
-      for (const Medium& m : media_.media())
-        if (!m.homogeneous() && m.bounds.contains(x)) sigmaT += m.at(x).sigmaT();
-      ++lookups;
-      tr *= RGB(1.0f) - sigmaT / s.majorant;
-      // Russian roulette on small transmittance keeps the estimator unbiased.
-      const float m = maxComponent(tr);
-      if (m < 0.1f) {
-        if (rng.uniform() >= m / 0.1f) return RGB(0.0f);
-        tr /= m / 0.1f;
+  forEachTentativeCollision(segs, rng, [&](float t, float majorant) {
+    ++lookups;
+    tr *= RGB(1.0f) - media_.heterogeneousSigmaT(ray.at(t)) / majorant;
+    // Russian roulette on small transmittance keeps the estimator unbiased.
+    const float m = maxComponent(tr);
+    if (m < 0.1f) {
+      if (rng.uniform() >= m / 0.1f) {
+        tr = RGB(0.0f);
+        return false;
       }
+      tr /= m / 0.1f;
     }
-  }
+    return true;
+  });
   return tr;
 }
 

@@ -4,6 +4,7 @@
 // majorant grid, built from the tree's blocks) or one global majorant per medium, so the
 // reference can be timed both ways. Homogeneous media have an exact majorant (no null
 // collisions) and analytic transmittance.
+#include <cmath>
 #include <vector>
 
 #include "src/core/rng.h"
@@ -15,6 +16,24 @@ struct MajorantSegment {
   float t0, t1;
   float majorant;  // >= sigma_t of every channel on [t0, t1)
 };
+
+// Tentative collisions along majorant segments, the loop shared by delta tracking (free
+// flights) and ratio tracking (transmittance): exponential steps at the segment's majorant;
+// `collision(t, majorant)` is called at each one and stops the walk by returning false.
+// Returns false when stopped.
+template <class Collision>
+bool forEachTentativeCollision(const std::vector<MajorantSegment>& segments, Rng& rng,
+                               Collision&& collision) {
+  for (const MajorantSegment& s : segments) {
+    float t = s.t0;
+    while (true) {
+      t -= std::log(1.0f - rng.uniform()) / s.majorant;
+      if (t >= s.t1) break;
+      if (!collision(t, s.majorant)) return false;
+    }
+  }
+  return true;
+}
 
 class MajorantTracker {
  public:
