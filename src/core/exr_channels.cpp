@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 
@@ -114,6 +115,12 @@ void writeExrChannels(const std::string& path, const ExrChannels& channels) {
     throw InputError(path, "", "image has an invalid size");
   for (const std::vector<float>& p : channels.planes)
     if (p.size() != n) throw InputError(path, "", "a channel has the wrong number of pixels");
+  // No NaN or infinity into a file (as writeExr); negative values stay, since an AOV such
+  // as a normal or a signed difference may be negative.
+  std::vector<std::vector<float>> planes = channels.planes;
+  for (std::vector<float>& p : planes)
+    for (float& v : p)
+      if (!std::isfinite(v)) v = 0.0f;
   publishAtomically(path, [&](const std::string& tmp) {
     Imf::Header header(channels.width, channels.height);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -123,8 +130,7 @@ void writeExrChannels(const std::string& path, const ExrChannels& channels) {
     const size_t row = sizeof(float) * static_cast<size_t>(channels.width);
     for (size_t c = 0; c < channels.names.size(); ++c) {
       header.channels().insert(channels.names[c], Imf::Channel(Imf::FLOAT));
-      // OpenEXR's Slice takes a non-const base even for writing.
-      char* base = const_cast<char*>(reinterpret_cast<const char*>(channels.planes[c].data()));
+      char* base = reinterpret_cast<char*>(planes[c].data());
       fb.insert(channels.names[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), row));
     }
     Imf::OutputFile out(tmp.c_str(), header);

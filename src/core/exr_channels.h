@@ -26,7 +26,8 @@ struct ExrChannels {
 // InputError on a missing, corrupt, deep or subsampled file.
 ExrChannels readExrChannels(const std::string& path);
 
-// Writes every channel as float32, ZIP-compressed, published atomically.
+// Writes every channel as float32, ZIP-compressed, published atomically; NaN and infinite
+// values are written as 0.
 void writeExrChannels(const std::string& path, const ExrChannels& channels);
 
 // The layer of a channel name: everything before the last '.', "" when there is none.

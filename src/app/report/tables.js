@@ -7,15 +7,17 @@ function metricsTable(images) {
   if (!measured.length) return el("p", { class: "caption" }, "No reference: no errors to measure.");
   const keys = [["delta_percent", "delta (%)"], ["relmse", "relMSE"], ["rmse", "RMSE"],
     ["psnr_db", "PSNR (dB)"], ["max_abs", "max abs"], ["mean_ratio", "mean A/B"]];
+  // The settings lvox writes into its EXRs, where any image has them.
+  const settings = ["lvox.mode", "lvox.spp", "lvox.method", "lvox.parameter"]
+    .filter((k) => measured.some((im) => im.metadata[k] !== undefined));
   return el("table", { class: "data", id: "metrics-table" },
     el("tr", {}, el("th", {}, "image"), el("th", {}, "size"), ...keys.map(([, label]) => el("th", {}, label)),
-      el("th", {}, "mode"), el("th", {}, "spp")),
+      ...settings.map((k) => el("th", {}, k.slice(5)))),
     ...measured.map((im) => el("tr", {},
       el("td", { title: im.path }, im.name),
       el("td", {}, `${im.source_width}x${im.source_height}`),
       ...keys.map(([k]) => el("td", {}, formatShort(im.metrics[k]))),
-      el("td", {}, im.metadata["lvox.mode"] || ""),
-      el("td", {}, im.metadata["lvox.spp"] || ""))));
+      ...settings.map((k) => el("td", {}, im.metadata[k] ?? "")))));
 }
 
 // Keys of one group ("times", "counts", "memory") over all reports, "total" last.
