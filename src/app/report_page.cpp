@@ -110,6 +110,10 @@ std::string reportHtml(const nlohmann::json& data, const std::string& title) {
 void writeReport(const std::string& path, const ReportInputs& in) {
   if (fs::path(path).extension() != ".html")
     throw InputError(path, "--output", "must end in .html");
+  if (in.images.empty() && in.reference.empty() && in.sweeps.empty() && in.convergence.empty() &&
+      in.reports.empty())
+    throw InputError(path, "--output",
+                     "nothing to report: give images, --sweep, --convergence or --reports");
   checkOutputPath(path, "--output", inputFiles(in));
   const std::string page = reportHtml(reportData(in), in.title);
   publishAtomically(path, [&](const std::string& tmp) {

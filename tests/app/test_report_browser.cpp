@@ -154,6 +154,9 @@ void checkViewer(const nlohmann::json& v) {
   expectPixel(v["exposure"]["atA"], shown(a, kEv), "A at +1 EV");
   expectPixel(v["exposure"]["atB"], shown(b, kEv), "B at +1 EV");
   EXPECT_NE(v["exposure"]["atA"], v["sliderAtA"]);
+  ASSERT_EQ(v["flip"].size(), 2u);  // flip shows A, then B
+  EXPECT_EQ(v["flip"][0], v["exposure"]["atA"]);
+  EXPECT_EQ(v["flip"][1], v["exposure"]["atB"]);
   const std::vector<std::string> readout = v["readout"];
   EXPECT_EQ(readout[0], "pixel (5, 3)");
   for (int c = 0; c < 3; ++c) {
@@ -228,7 +231,9 @@ TEST(ReportBrowser, SelfTestInHeadlessChromium) {
   EXPECT_EQ(sweep["plots"][0]["front"], in.frontTime);  // the page's front is sweep's
   EXPECT_EQ(sweep["plots"][1]["front"], in.frontEvals);
   EXPECT_EQ(sweep["plots"][0]["bold"], in.autoRows);
-  EXPECT_NE(sweep["plots"][0]["tooltip"].get<std::string>().find("delta"), std::string::npos);
+  const std::string tooltip = sweep["plots"][0]["tooltip"];
+  for (const char* word : {"euler", "step = 0.2", "time", "evaluations", "delta"})
+    EXPECT_NE(tooltip.find(word), std::string::npos) << word << " not in " << tooltip;
   EXPECT_EQ(sweep["thumbs"], 1 + 2 * in.sweepRows);  // reference, then image + error map
   EXPECT_GT(sweep["thumbColours"][0].get<int>(), 4);
   EXPECT_EQ(r["plots"][1]["plots"][0]["points"], in.convergenceRows);

@@ -139,6 +139,7 @@ TEST(ReportCli, BadInputIsOneLineAndWritesNothing) {
                   "rk4,step,0.1,1.5,100,2\nrk4,step,0.05,fast,200,1\n");
   test::writeFile(dir / "report.json", R"({"times": {"render": "slow"}})");
   test::writeFile(dir / "conv.csv", "spp,seconds\n1,0.5\n");
+  expectReportFailure(dir, "", "nothing to report");
   expectReportFailure(dir, (dir / "missing.exr").string(), "missing.exr");
   expectReportFailure(dir,
                       (dir / "small.exr").string() + " --reference " + (dir / "ref.exr").string(),

@@ -50,6 +50,13 @@ function checkViewer(params) {
   setControl("split", 1000);
   r.exposure.atA = panePixel(0, x, y);
   r.readout = hover(x, y);
+  setControl("mode", "flip", "change");
+  zoomAt(x, y, 8);
+  r.flip = [panePixel(0, x, y)];
+  document.getElementById("flip").click();
+  r.flip.push(panePixel(0, x, y));
+  setControl("mode", "slider", "change");
+  zoomAt(x, y, 8);
   r.layers = [...document.getElementById("layer").options].map((o) => {
     setControl("layer", o.value, "change");
     return { value: o.value, atA: panePixel(0, x, y), readout: hover(x, y)[1] };
