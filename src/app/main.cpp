@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   lvox::addCompareCommand(app, exitCode);
   lvox::addMergeCommand(app, exitCode);
   lvox::addSweepCommand(app, exitCode);
+  lvox::addReportCommand(app, exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

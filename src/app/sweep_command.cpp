@@ -2,6 +2,8 @@
 // Monte Carlo spp), measures each image against a reference, and writes DIR/sweep.csv
 // and DIR/sweep.png (error against wall time and against medium evaluations, log-log,
 // one curve per method, Pareto front marked). See docs/results.md, "speed against error".
+// Each point's image and error map, the reference and an interactive report.html are kept
+// beside them (sweep_images.h).
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,6 +23,7 @@
 
 #include "plot_sweep_script.h"
 #include "src/app/commands.h"
+#include "src/app/sweep_images.h"
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
 #include "src/core/image_io.h"
@@ -135,11 +138,12 @@ Scene configured(const Scene& base, const SweepPoint& p) {
   return s;
 }
 
-SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& reference) {
+SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& reference,
+                     Image& image) {
   Report report;
   const auto start = std::chrono::steady_clock::now();
   const Scene point = configured(scene, p);
-  const Image image = renderScene(point.job(), report);
+  image = renderScene(point.job(), report);
   SweepRow row;
   row.point = p;
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -275,16 +279,21 @@ int runSweep(const SweepFlags& f) {
   const std::string csvPath = (fs::path(f.outDir) / "sweep.csv").string();
   const std::string pngPath = (fs::path(f.outDir) / "sweep.png").string();
   checkOutputPath(csvPath, "--output", scene.inputFiles);
+  const SweepKeeper keeper(f.outDir, f.reference, scene.inputFiles);
 
   std::string refDescription;
   const Image reference = referenceImage(f, sweep, scene, refDescription);
+  keeper.start(reference);
   const std::string mode(modeName(scene.render.mode));
   if (!f.quiet)
     std::fprintf(stderr, "lvox sweep: %zu renders of %s (%s mode) against %s\n", points.size(),
                  fs::path(f.scene).filename().c_str(), mode.c_str(), refDescription.c_str());
   std::vector<SweepRow> rows;
   for (const SweepPoint& p : points) {
-    rows.push_back(renderPoint(scene, p, reference));
+    Image image;
+    rows.push_back(renderPoint(scene, p, reference, image));
+    keeper.keepPoint(rows.size() - 1, p.method.name(), std::string(nameOf(p.knob, kKnobNames)),
+                     p.value, image, reference);
     const SweepRow& r = rows.back();
     if (!f.quiet)
       std::fprintf(stderr, "  %-16s %s %-9.4g %8.3f s %13llu evals  delta %.4f %%\n",
@@ -299,11 +308,15 @@ int runSweep(const SweepFlags& f) {
       &SweepRow::paretoEvals);
   const std::string name = fs::path(f.scene).stem().string();
   writeText(csvPath, csvText(name, scene.render.mode, rows));
-  if (f.plot)
-    plot(csvPath, pngPath,
-         name + " (" + mode + ", " + std::to_string(scene.world.camera.width) + "x" +
-             std::to_string(scene.world.camera.height) + ", " + std::to_string(scene.render.spp) +
-             " spp) vs " + refDescription);
+  const std::string title = name + " (" + mode + ", " +
+                            std::to_string(scene.world.camera.width) + "x" +
+                            std::to_string(scene.world.camera.height) + ", " +
+                            std::to_string(scene.render.spp) + " spp) vs " + refDescription;
+  if (f.plot) plot(csvPath, pngPath, title);
+  std::vector<std::pair<double, size_t>> front;
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].paretoTime) front.emplace_back(rows[i].seconds, i);
+  keeper.publishReport(title, front);
   if (!f.quiet) std::fprintf(stderr, "lvox sweep: wrote %s\n", csvPath.c_str());
   return 0;
 }

@@ -37,4 +37,8 @@ if [ -n "$mcref" ]; then
     --reference "$mcref" --methods auto,euler,rk4,dopri5,mc --step-scales 4,1 \
     --tols 0.1,0.001 --mc-spp 4,16,64
 fi
+# The sweeps keep their images only while they run: docs/ holds the CSVs, the plots and one
+# report of all of them (docs/results.md), not megabytes of point images per scene.
+rm -rf "$out"/*/points "$out"/*/reference.exr "$out"/*/report.html
+$lvox report --title "lvox sweep study" --sweep "$out"/*/ -o "$out/report.html" -q
 for f in "$out"/*/sweep.csv; do echo "== $f"; cat "$f"; done
