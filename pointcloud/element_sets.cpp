@@ -1,3 +1,6 @@
+#include <algorithm>
+#include <stdexcept>
+
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/surfels.h"
 
@@ -30,19 +33,35 @@ void SurfelSet::permute(const std::vector<uint32_t>& order) {
 
 RGB LvoxelSet::sourceRadiance(size_t i) const {
   const RGB st = sigmaT(i);
-  const RGB ls = directInScatter[i] + multiScatter[i];
+  const RGB ls = inScatter(i);
   return {ratio(sigmaS[i].x, st.x) * ls.x, ratio(sigmaS[i].y, st.y) * ls.y,
           ratio(sigmaS[i].z, st.z) * ls.z};
 }
 
+void LvoxelSet::resize(size_t n) {
+  position.resize(n);
+  halfSize.resize(n);
+  sigmaA.resize(n);
+  sigmaS.resize(n);
+  light = LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
+  slot.resize(n);
+  for (size_t i = 0; i < n; ++i) slot[i] = light.occupy(static_cast<long>(i));
+}
+
 void LvoxelSet::append(const LvoxelSet& other) {
+  if (other.size() == 0) return;
+  if (size() == 0 && light.occupiedCount() == 0) {
+    light = LvoxelLight(other.light.grid());
+    light.setDeltaLights(other.light.deltaLights());
+  } else if (!(light.grid() == other.light.grid())) {
+    throw std::logic_error("appending lvoxels of another grid");
+  }
   auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
   cat(position, other.position);
   cat(halfSize, other.halfSize);
   cat(sigmaA, other.sigmaA);
   cat(sigmaS, other.sigmaS);
-  cat(directInScatter, other.directInScatter);
-  cat(multiScatter, other.multiScatter);
+  for (uint32_t s : other.slot) slot.push_back(light.occupy(other.light.cellOfSlot(s)));
 }
 
 void LvoxelSet::permute(const std::vector<uint32_t>& order) {
@@ -50,8 +69,7 @@ void LvoxelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(halfSize, order);
   permuteArray(sigmaA, order);
   permuteArray(sigmaS, order);
-  permuteArray(directInScatter, order);
-  permuteArray(multiScatter, order);
+  permuteArray(slot, order);
 }
 
 }  // namespace lvox

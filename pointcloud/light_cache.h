@@ -1,6 +1,6 @@
 #pragma once
-// Direct-light cache (phase 1, Gibson 2011 4.1): every surfel and lvoxel stores the
-// light it receives straight from the light sources, computed by the caller's closures
+// Direct-light cache (phase 1, Gibson 2011 4.1): every surfel and every lvoxel cell stores
+// the light it receives straight from the light sources, computed by the caller's closures
 // (the renderer's shadow-ray code), in parallel; then the cluster aggregates are rebuilt.
 #include <tbb/parallel_for.h>
 
@@ -19,19 +19,18 @@ struct SurfelLightQuery {
   uint32_t triangle;
 };
 
+// One occupied cell of the lvoxels' light (lvoxels of overlapping media share it).
 struct LvoxelLightQuery {
-  uint32_t index;
-  Vec3 position;
-  float halfSize;
-  RGB sigmaA, sigmaS;
+  uint32_t slot;
+  Vec3 centre;
 };
 
 // surfelRadiance(const SurfelLightQuery&) -> RGB: outgoing radiance [W/(m^2 sr)] of the
 //   side `normal` points to, e.g. albedo/pi * sum of unoccluded light * cos (+ emission).
 //   Called once per side (surfaces are two-sided).
-// lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights,
-//   integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a point light:
-//   phase * I * Tr / d^2), WITHOUT the sigma_s factor.
+// lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights
+//   at the cell centre, integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a
+//   point light: phase * I * Tr / d^2), WITHOUT the sigma_s factor.
 template <class SurfelFn, class LvoxelFn>
 void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
                       const LvoxelFn& lvoxelInScatter) {
@@ -45,19 +44,34 @@ void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
     s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
     s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
   });
-  LvoxelSet& l = cloud.mutableLvoxels();
-  tbb::parallel_for(size_t(0), l.size(), [&](size_t i) {
-    const RGB in = lvoxelInScatter(LvoxelLightQuery{static_cast<uint32_t>(i), l.position[i],
-                                                    l.halfSize[i], l.sigmaA[i], l.sigmaS[i]});
-    l.directInScatter[i] = isFinite(in) ? in : RGB(0.0f);
+  LvoxelLight& light = cloud.mutableLvoxels().light;
+  tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t i) {
+    const auto slot = static_cast<uint32_t>(i);
+    const RGB in = lvoxelInScatter(LvoxelLightQuery{slot, light.centre(slot)});
+    light.directInScatter(slot) = isFinite(in) ? in : RGB(0.0f);
   });
   cloud.updateAggregates();
 }
 
+// Stores per-lvoxel gathered in-scatter as its cell's multiple scattering: the mean over
+// the lvoxels of the cell (one per medium overlapping there). `update(value, next)` writes.
+template <class Update>
+void storeMultiScatter(LvoxelSet& l, const RGB* gathered, Update&& update) {
+  std::vector<RGB> sum(l.light.occupiedCount(), RGB(0.0f));
+  std::vector<int> count(sum.size(), 0);
+  for (size_t i = 0; i < l.size(); ++i) {
+    sum[l.slot[i]] += gathered[i];
+    ++count[l.slot[i]];
+  }
+  for (size_t s = 0; s < sum.size(); ++s)
+    if (count[s] > 0)
+      update(l.light.multiScatter(static_cast<uint32_t>(s)), sum[s] / static_cast<float>(count[s]));
+}
+
 // Multiple scattering between lvoxels: `bounces` Jacobi passes, each gathering the
 // in-scattered radiance at every lvoxel centre from the cloud as it stands (surfels'
-// cached radiance plus the lvoxels' current sources) into multiScatter. One pass adds
-// the light scattered once more by the medium and the light from lit surfels.
+// cached radiance plus the lvoxels' current sources) into its cell's multiScatter. One
+// pass adds the light scattered once more by the medium and the light from lit surfels.
 template <class Phase>
 void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const GatherOptions& options,
                              int bounces, uint64_t seed) {
@@ -73,7 +87,7 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
           gatherInScatter(cloud, l.position[i], Vec3(0, 0, 1), phase, options, rng, scratch);
       next[i] = isFinite(in) ? in : RGB(0.0f);
     });
-    l.multiScatter = next;
+    storeMultiScatter(l, next.data(), [](RGB& value, const RGB& v) { value = v; });
     cloud.updateAggregates();
   }
 }
@@ -146,7 +160,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
       update(s.radianceFront[i], directFront[i] + s.albedo[i] * gathered[i] * kInvPi);
       update(s.radianceBack[i], directBack[i] + s.albedo[i] * gathered[n + i] * kInvPi);
     }
-    for (size_t i = 0; i < m; ++i) update(l.multiScatter[i], gathered[2 * n + i]);
+    storeMultiScatter(l, gathered.data() + 2 * n, update);
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();
   }

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "pointcloud/lvoxel_grid.h"
 #include "pointcloud/lvoxels.h"
 #include "src/core/error.h"
 #include "src/core/rng.h"
@@ -35,22 +36,6 @@ struct LvoxelSettings {
 };
 
 namespace detail {
-
-struct LvoxelGrid {
-  Vec3 origin;
-  float spacing;
-  std::array<long, 3> cells;
-  size_t index(long i, long j, long k) const {
-    return static_cast<size_t>((k * cells[1] + j) * cells[0] + i);
-  }
-};
-
-inline LvoxelGrid lvoxelGrid(const Bounds3& b, float spacing) {
-  LvoxelGrid g{b.lo, spacing, {}};
-  for (int a = 0; a < 3; ++a)
-    g.cells[a] = std::max(1L, static_cast<long>(std::ceil((b.hi[a] - b.lo[a]) / spacing)));
-  return g;
-}
 
 // One flag per cell: does the cell overlap an active box?
 inline std::vector<uint8_t> activeCells(const LvoxelGrid& g, const std::vector<Bounds3>& boxes) {
@@ -97,10 +82,18 @@ void averageCoefficients(const Medium& medium, const Vec3& lo, float spacing, in
   sigmaS = sumS * inv;
 }
 
+// The lvoxels of one slice of cells (fixed k), and their cells.
+struct LvoxelSlice {
+  LvoxelSet lvoxels;
+  std::vector<long> cells;
+};
+
 }  // namespace detail
 
-// Cells where the averaged sigma_t is zero in every channel are dropped. The result is
-// ordered by cell index and does not depend on the thread schedule.
+// Lvoxels on the grid covering medium.bounds(); cells where the averaged sigma_t is zero
+// in every channel are dropped. The set's light has the grid, with the lvoxels' cells
+// occupied in order. The result is ordered by cell index and does not depend on the
+// thread schedule.
 template <MediumSampler Medium>
 LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
   if (!(settings.spacing > 0.0f) || !std::isfinite(settings.spacing))
@@ -110,10 +103,8 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
   LvoxelSet out;
   const Bounds3 bounds = medium.bounds();
   if (bounds.empty()) return out;
-  const detail::LvoxelGrid grid = detail::lvoxelGrid(bounds, settings.spacing);
-  const double cellCount = static_cast<double>(grid.cells[0]) * static_cast<double>(grid.cells[1]) *
-                           static_cast<double>(grid.cells[2]);
-  if (cellCount > static_cast<double>(settings.maxLvoxels))
+  const LvoxelGrid grid = LvoxelGrid::covering(bounds, settings.spacing);
+  if (grid.cellCount() > static_cast<double>(settings.maxLvoxels))
     throw InputError("pointcloud settings", "lvoxel_spacing",
                      "too small for the medium: more than maxLvoxels cells");
   const std::vector<uint8_t> active = detail::activeCells(grid, medium.activeBoxes());
@@ -121,29 +112,34 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
   const float h = 0.5f * settings.spacing;
 
   // One slice of cells (fixed k) per task; slices are concatenated in order.
-  std::vector<LvoxelSet> slices(static_cast<size_t>(grid.cells[2]));
+  std::vector<detail::LvoxelSlice> slices(static_cast<size_t>(grid.cells[2]));
   tbb::parallel_for(long(0), grid.cells[2], [&](long k) {
-    LvoxelSet& slice = slices[static_cast<size_t>(k)];
+    detail::LvoxelSlice& slice = slices[static_cast<size_t>(k)];
     for (long j = 0; j < grid.cells[1]; ++j)
       for (long i = 0; i < grid.cells[0]; ++i) {
         const size_t cell = grid.index(i, j, k);
         if (!active[cell]) continue;
-        const Vec3 lo = grid.origin +
-                        Vec3(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k)) *
-                            settings.spacing;
+        const Vec3 lo = grid.cellLow(i, j, k);
         Rng rng(settings.seed, cell);
         RGB sigmaA, sigmaS;
         detail::averageCoefficients(medium, lo, settings.spacing, m, rng, sigmaA, sigmaS);
         if (isBlack(sigmaA + sigmaS)) continue;
-        slice.position.push_back(lo + Vec3(h, h, h));
-        slice.halfSize.push_back(h);
-        slice.sigmaA.push_back(sigmaA);
-        slice.sigmaS.push_back(sigmaS);
-        slice.directInScatter.emplace_back(0.0f);
-        slice.multiScatter.emplace_back(0.0f);
+        slice.lvoxels.position.push_back(lo + Vec3(h, h, h));
+        slice.lvoxels.halfSize.push_back(h);
+        slice.lvoxels.sigmaA.push_back(sigmaA);
+        slice.lvoxels.sigmaS.push_back(sigmaS);
+        slice.cells.push_back(static_cast<long>(cell));
       }
   });
-  for (const LvoxelSet& s : slices) out.append(s);
+  out.light = LvoxelLight(grid);
+  auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
+  for (const detail::LvoxelSlice& s : slices) {
+    cat(out.position, s.lvoxels.position);
+    cat(out.halfSize, s.lvoxels.halfSize);
+    cat(out.sigmaA, s.lvoxels.sigmaA);
+    cat(out.sigmaS, s.lvoxels.sigmaS);
+    for (long cell : s.cells) out.slot.push_back(out.light.occupy(cell));
+  }
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "pointcloud/lvoxel_light.h"
 #include "src/core/math.h"
 
 namespace lvox {
@@ -17,10 +18,10 @@ struct LvoxelSet {
   std::vector<float> halfSize;
   std::vector<RGB> sigmaA;  // 1/unit, averaged over the cube
   std::vector<RGB> sigmaS;
-  // In-scattered radiance L_s = integral of phase * L_i over the sphere, W/(m^2 sr):
-  // the lvoxel's volume source is sigma_s * (directInScatter + multiScatter).
-  std::vector<RGB> directInScatter;  // filled by cacheDirectLight
-  std::vector<RGB> multiScatter;     // filled by cacheMultipleScattering (or the caller)
+  std::vector<uint32_t> slot;  // the lvoxel's cell in `light`
+  // The light on the lvoxels' cells: in-scattered radiance L_s = integral of phase * L_i
+  // over the sphere, W/(m^2 sr); the lvoxel's volume source is sigma_s * L_s.
+  LvoxelLight light;
 
   size_t size() const { return position.size(); }
   RGB sigmaT(size_t i) const { return sigmaA[i] + sigmaS[i]; }
@@ -28,19 +29,17 @@ struct LvoxelSet {
     const float e = 2.0f * halfSize[i];
     return e * e * e;
   }
+  RGB inScatter(size_t i) const { return light.inScatter(slot[i]); }
+  // n lvoxels filled by hand (tests, benchmarks): each gets a light cell of its own, on a
+  // grid that is only an index (n x 1 x 1 unit cells), not their positions.
+  void resize(size_t n);
   // Radiance the lvoxel sends along any ray (isotropic source): sigma_s/sigma_t * L_s.
   RGB sourceRadiance(size_t i) const;
-  void resize(size_t n) {
-    position.resize(n);
-    halfSize.resize(n);
-    sigmaA.resize(n);
-    sigmaS.resize(n);
-    directInScatter.assign(n, RGB(0.0f));
-    multiScatter.assign(n, RGB(0.0f));
-  }
+  // Appends `other`'s lvoxels; their cells join this set's light (same grid required, or
+  // this set empty). Light already cached in `other` is not carried over.
   void append(const LvoxelSet& other);
   static constexpr size_t bytesPerElement() {
-    return sizeof(Vec3) + sizeof(float) + 4 * sizeof(RGB);
+    return sizeof(Vec3) + sizeof(float) + 2 * sizeof(RGB) + sizeof(uint32_t);
   }
   size_t memoryBytes() const { return size() * bytesPerElement(); }
   void permute(const std::vector<uint32_t>& order);

@@ -93,11 +93,11 @@ void printPointCloudSummary(const Report& report) {
   std::fprintf(stderr, "lvox: phases: %s\n", phases.c_str());
   std::fprintf(stderr,
                "lvox: cloud: %llu surfels, %llu lvoxels, %llu nodes; %.1f MB elements, %.1f MB "
-               "octree, %.1f MB lvoxel field; peak RSS %.0f MB\n",
+               "octree, %.1f MB lvoxel light; peak RSS %.0f MB\n",
                static_cast<unsigned long long>(count("surfels")),
                static_cast<unsigned long long>(count("lvoxels")),
                static_cast<unsigned long long>(count("octree_nodes")), megabytes("point_cloud"),
-               megabytes("octree"), megabytes("lvoxel_field"), megabytes("peak_rss"));
+               megabytes("octree"), megabytes("lvoxel_light"), megabytes("peak_rss"));
 }
 
 void printSummary(const Scene& scene, const Report& report, const std::string& output) {

@@ -64,12 +64,13 @@ void removeBuried(const RenderContext& ctx, float burialReach, float spacing, Su
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
-// lvoxels (from the field).
+// lvoxel cells (their light, pcb_media.h).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
                  rte::SolveCounts& counts) {
   const World& world = ctx.world;
   PointCloud& cloud = *cache.cloud;
-  if (cache.lvoxels) cacheLvoxelDirectLight(ctx, volume, cache.field, counts);
+  LvoxelLight& lvoxelLight = cloud.mutableLvoxels().light;
+  if (cache.lvoxels) cacheLvoxelDirectLight(ctx, volume, lvoxelLight, counts);
   tbb::combinable<rte::SolveCounts> perThread;
   cacheDirectLight(
       cloud,
@@ -86,11 +87,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         const Material& m = world.materials[world.mesh.triangleMaterial[q.triangle]];
         return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
       },
-      [&](const LvoxelLightQuery& q) {
-        const long slot = cache.field.slotOf(q.position);
-        return slot < 0 ? RGB(0.0f)
-                        : phaseAveragedDirect(ctx.lights, cache.field, static_cast<uint32_t>(slot));
-      });
+      [&](const LvoxelLightQuery& q) { return phaseAveragedDirect(ctx.lights, lvoxelLight, q.slot); });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
 }
 
@@ -104,12 +101,13 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["lvoxels"] = mem.lvoxelBytes;
   report.memory["point_cloud"] = mem.surfelBytes + mem.lvoxelBytes;
   report.memory["octree"] = mem.octreeBytes;
-  report.memory["lvoxel_field"] = cache.field.memoryBytes();
+  report.memory["lvoxel_light"] = cloud.lvoxels().light.memoryBytes();
   report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = PointCloud::bytesPerNode();
   report.settings["surfel_spacing"] = std::to_string(spacing);
-  if (cache.lvoxels) report.settings["lvoxel_spacing"] = std::to_string(cache.field.spacing());
+  if (cache.lvoxels)
+    report.settings["lvoxel_spacing"] = std::to_string(cloud.lvoxels().light.grid().spacing);
 }
 
 }  // namespace
@@ -130,14 +128,12 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   LvoxelSet lvoxels;
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_sampling");
-    cache.field = LvoxelField(volume.media().bounds(),
-                              lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
-                              lvoxelFieldChannels(ctx.lights));
-    lvoxels = sampleSceneLvoxels(volume.media(), settings.lvoxelSamples, seed, cache.field);
+    lvoxels = sampleSceneLvoxels(volume.media(),
+                                 lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
+                                 settings.lvoxelSamples, seed, ctx.lights);
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
-    if (!cache.lvoxels) cache.field = LvoxelField();
   }
   {
     PhaseTimer timer(report, "octree_build");
@@ -160,7 +156,6 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
     const InterreflectionStats stats = cacheInterreflection(
         *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed);
-    if (cache.lvoxels) addMultipleScattering(cache.cloud->lvoxels(), cache.field);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
@@ -216,7 +211,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     const float tEnd = hitSurface ? hit.t : kInf;
     RGB l;
     if (cache.lvoxels) {
-      const PointCloudScatter scatter{cache.field, ctx.lights, volume.media()};
+      const PointCloudScatter scatter{cache.cloud->lvoxels().light, ctx.lights, volume.media()};
       l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts);
     } else {
       l = volume.radiance(ray, tEnd, behind, rng, solveCounts);

@@ -12,7 +12,6 @@
 #include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_lookup.h"
 #include "src/render/indirect_grid.h"
-#include "src/render/lvoxel_field.h"
 #include "src/render/render_context.h"
 #include "src/render/report.h"
 #include "src/render/sampler_counters.h"
@@ -23,9 +22,8 @@ namespace lvox {
 
 // What phase 1 leaves for phase 2.
 struct PointBasedCache {
-  std::unique_ptr<PointCloud> cloud;
-  LvoxelField field;     // light on the lvoxel grid; empty without lvoxels
-  bool lvoxels = false;  // pcb mode in a scene with media
+  std::unique_ptr<PointCloud> cloud;  // its lvoxels hold their light (LvoxelLight)
+  bool lvoxels = false;               // pcb mode in a scene with media
   IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };

@@ -68,39 +68,38 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
   return s;
 }
 
-LvoxelSet sampleSceneLvoxels(const MediaSet& media, int samplesPerAxis, uint64_t seed,
-                             LvoxelField& field) {
+LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
+                             uint64_t seed, const LightSet& lights) {
   LvoxelSet all;
   LvoxelSettings settings;
-  settings.spacing = field.spacing();
+  settings.spacing = spacing;
   settings.samplesPerAxis = samplesPerAxis;
   settings.seed = seed;
   for (const Medium& m : media.media()) {
     const MediumForLvoxels adapter{m, media.bounds(), activeBoxes(m)};
     all.append(sampleLvoxels(adapter, settings));
   }
-  for (const Vec3& p : all.position) field.occupy(p);
+  all.light.setDeltaLights(lights.lights().size());
   return all;
 }
 
 void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
-                            LvoxelField& field, rte::SolveCounts& counts) {
+                            LvoxelLight& light, rte::SolveCounts& counts) {
   const LightSet& lights = ctx.lights;
   const size_t deltaCount = lights.lights().size();
   tbb::combinable<rte::SolveCounts> perThread;
-  tbb::parallel_for(size_t(0), field.occupiedCount(), [&](size_t slot) {
+  tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t slot) {
     rte::SolveCounts& local = perThread.local();
-    const Vec3 x = field.centre(static_cast<uint32_t>(slot));
-    RGB* values = field.values(static_cast<uint32_t>(slot));
+    const Vec3 x = light.centre(static_cast<uint32_t>(slot));
+    RGB* transmittance = light.transmittance(static_cast<uint32_t>(slot));
     for (size_t k = 0; k < deltaCount; ++k) {
       const LightSample s = lights.sampleDelta(lights.lights()[k], x);
       // A spot light's cone does not decide the shadowing: the centre may lie outside the
       // cone while part of the cell is inside, so the transmittance is kept regardless.
-      const Light& light = lights.lights()[k];
-      const Vec3 wi = light.type == LightType::Directional ? -light.direction : s.wi;
-      const float distance =
-          light.type == LightType::Directional ? kInf : length(light.position - x);
-      values[k] =
+      const Light& l = lights.lights()[k];
+      const Vec3 wi = l.type == LightType::Directional ? -l.direction : s.wi;
+      const float distance = l.type == LightType::Directional ? kInf : length(l.position - x);
+      transmittance[k] =
           distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance, local) : RGB(1.0f);
     }
     Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
@@ -108,42 +107,26 @@ void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& vol
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
       isotropic += s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);
     });
-    values[deltaCount] = isotropic * kInv4Pi;
+    light.areaInScatter(static_cast<uint32_t>(slot)) = isotropic * kInv4Pi;
   });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
 }
 
-RGB phaseAveragedDirect(const LightSet& lights, const LvoxelField& field, uint32_t slot) {
-  const RGB* values = field.values(slot);
-  const size_t deltaCount = lights.lights().size();
-  RGB sum = values[deltaCount];
-  for (size_t k = 0; k < deltaCount; ++k) {
-    const LightSample s = lights.sampleDelta(lights.lights()[k], field.centre(slot));
-    sum += s.radiance * values[k] * kInv4Pi;
+RGB phaseAveragedDirect(const LightSet& lights, LvoxelLight& light, uint32_t slot) {
+  const RGB* transmittance = light.transmittance(slot);
+  RGB sum = light.areaInScatter(slot);
+  for (size_t k = 0; k < lights.lights().size(); ++k) {
+    const LightSample s = lights.sampleDelta(lights.lights()[k], light.centre(slot));
+    sum += s.radiance * transmittance[k] * kInv4Pi;
   }
   return sum;
-}
-
-void addMultipleScattering(const LvoxelSet& lvoxels, LvoxelField& field) {
-  const size_t iso = field.channels() - 1;
-  std::vector<RGB> sum(field.occupiedCount(), RGB(0.0f));
-  std::vector<int> count(field.occupiedCount(), 0);
-  for (size_t i = 0; i < lvoxels.size(); ++i) {
-    const long slot = field.slotOf(lvoxels.position[i]);
-    if (slot < 0) continue;
-    sum[static_cast<size_t>(slot)] += lvoxels.multiScatter[i];
-    ++count[static_cast<size_t>(slot)];
-  }
-  for (size_t s = 0; s < sum.size(); ++s)
-    if (count[s] > 0)
-      field.values(static_cast<uint32_t>(s))[iso] += sum[s] / static_cast<float>(count[s]);
 }
 
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
                                   const MediumCoefficients* perMedium) const {
   thread_local std::vector<RGB> values;
-  values.resize(field.channels());
-  if (!field.interpolate(x, values.data())) return RGB(0.0f);
+  values.resize(light.channels());
+  if (!light.interpolate(x, values.data())) return RGB(0.0f);
   const size_t deltaCount = lights.lights().size();
   // Light samples of the delta lights at x: exact direction, falloff and spot profile.
   thread_local std::vector<LightSample> samples;

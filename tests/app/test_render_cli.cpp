@@ -279,7 +279,7 @@ TEST(Scenes, AtriumWithSmokeRendersInPcbMode) {
   for (const char* phase : {"surfel_sampling", "lvoxel_sampling", "octree_build", "direct_cache",
                             "interreflection", "gather_grid", "render"})
     EXPECT_TRUE(report["times"].contains(phase)) << phase;
-  for (const char* mem : {"point_cloud", "octree", "lvoxel_field", "peak_rss"})
+  for (const char* mem : {"point_cloud", "octree", "lvoxel_light", "peak_rss"})
     EXPECT_GT(report["memory"][mem].get<uint64_t>(), 0u) << mem;
 }
 

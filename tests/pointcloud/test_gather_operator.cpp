@@ -117,8 +117,8 @@ TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
   }
   for (size_t i = 0; i < a.surfels().size(); ++i)
     ASSERT_EQ(a.surfels().radianceFront[i], b.surfels().radianceFront[i]);
-  for (size_t i = 0; i < a.lvoxels().size(); ++i)
-    ASSERT_EQ(a.lvoxels().multiScatter[i], b.lvoxels().multiScatter[i]);
+  for (uint32_t s = 0; s < a.lvoxels().light.occupiedCount(); ++s)
+    ASSERT_EQ(a.lvoxels().light.multiScatter(s), b.lvoxels().light.multiScatter(s));
 }
 
 }  // namespace

@@ -163,8 +163,8 @@ TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
   // in-scatter is 1 whatever the transmittance (up to float rounding).
   const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
   PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
-  std::fill(cloud.mutableLvoxels().directInScatter.begin(),
-            cloud.mutableLvoxels().directInScatter.end(), RGB(1.0f));
+  LvoxelLight& light = cloud.mutableLvoxels().light;
+  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s) = RGB(1.0f);
   cloud.updateAggregates();
   GatherOptions o;
   o.samples = 64;

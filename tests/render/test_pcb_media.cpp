@@ -38,7 +38,7 @@ TEST(PointBasedMedia, SingleScatteringMatchesTheSlabClosedForm) {
   const Pixel px = renderPixel(scene, "pcb");
   EXPECT_NEAR(px.value.x, expected, 2e-3 * expected);
   EXPECT_EQ(px.report.counts.at("lvoxels"), 200u * 10u * 40u);  // every cell of the box
-  EXPECT_GT(px.report.memory.at("lvoxel_field"), 0u);
+  EXPECT_GT(px.report.memory.at("lvoxel_light"), 0u);
 }
 
 // Oracle 2.2 (b): point light I = 10 at (2, 0.5, 0) inside fog, camera at the origin

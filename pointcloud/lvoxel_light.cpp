@@ -1,0 +1,79 @@
+#include "pointcloud/lvoxel_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lvox {
+
+uint32_t LvoxelLight::occupy(long cell) {
+  if (cell < 0 || static_cast<double>(cell) >= grid_.cellCount())
+    throw std::logic_error("lvoxel cell outside its own grid");
+  if (slotOfCell_.empty()) slotOfCell_.assign(static_cast<size_t>(grid_.cellCount()), -1);
+  int32_t& s = slotOfCell_[static_cast<size_t>(cell)];
+  if (s < 0) {
+    s = static_cast<int32_t>(cell_.size());
+    cell_.push_back(cell);
+    centre_.push_back(grid_.centre(cell));
+    transmittance_.resize(cell_.size() * deltaLights_, RGB(0.0f));
+    areaInScatter_.emplace_back(0.0f);
+    directInScatter_.emplace_back(0.0f);
+    multiScatter_.emplace_back(0.0f);
+  }
+  return static_cast<uint32_t>(s);
+}
+
+long LvoxelLight::slotOf(const Vec3& p) const {
+  const long cell = grid_.cellOf(p);
+  return cell < 0 || slotOfCell_.empty() ? -1 : slotOfCell_[static_cast<size_t>(cell)];
+}
+
+void LvoxelLight::setDeltaLights(size_t count) {
+  deltaLights_ = count;
+  transmittance_.assign(cell_.size() * count, RGB(0.0f));
+}
+
+bool LvoxelLight::interpolate(const Vec3& p, RGB* out) const {
+  const size_t n = channels();
+  std::fill(out, out + n, RGB(0.0f));
+  if (slotOfCell_.empty()) return false;
+  long base[3];
+  float frac[3];
+  for (int a = 0; a < 3; ++a) {
+    const float u = (p[a] - grid_.origin[a]) / grid_.spacing - 0.5f;  // cell-centre coordinates
+    const float f = std::floor(u);
+    base[a] = static_cast<long>(f);
+    frac[a] = u - f;
+  }
+  float weightSum = 0.0f;
+  for (int corner = 0; corner < 8; ++corner) {
+    long c[3];
+    float w = 1.0f;
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      const int bit = (corner >> a) & 1;
+      c[a] = base[a] + bit;
+      w *= bit ? frac[a] : 1.0f - frac[a];
+      inside = inside && c[a] >= 0 && c[a] < grid_.cells[a];
+    }
+    if (!inside || w <= 0.0f) continue;
+    const int32_t s = slotOfCell_[grid_.index(c[0], c[1], c[2])];
+    if (s < 0) continue;
+    const auto slot = static_cast<size_t>(s);
+    const RGB* tr = &transmittance_[slot * deltaLights_];
+    for (size_t k = 0; k < deltaLights_; ++k) out[k] += tr[k] * w;
+    out[deltaLights_] += (areaInScatter_[slot] + multiScatter_[slot]) * w;
+    weightSum += w;
+  }
+  if (!(weightSum > 0.0f)) return false;
+  const float inv = 1.0f / weightSum;
+  for (size_t ch = 0; ch < n; ++ch) out[ch] *= inv;
+  return true;
+}
+
+size_t LvoxelLight::memoryBytes() const {
+  return slotOfCell_.size() * sizeof(int32_t) + cell_.size() * (sizeof(long) + sizeof(Vec3)) +
+         (transmittance_.size() + 3 * cell_.size()) * sizeof(RGB);
+}
+
+}  // namespace lvox
