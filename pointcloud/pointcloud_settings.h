@@ -23,7 +23,7 @@ struct PointCloudSettings {
   int lvoxelGatherSamples = 16;  // sphere rays per lvoxel and scattering pass
   int bounces = 24;              // interreflection passes (surfels and lvoxels)
   float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
-  GatherVisibility gatherVisibility = GatherVisibility::kCloud;
+  GatherVisibility gatherVisibility = GatherVisibility::kRays;
   int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
   int gatherSamples = 64;                 // gather rays per pixel (split over its samples)
   int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit

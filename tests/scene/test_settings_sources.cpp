@@ -95,7 +95,7 @@ TEST(SettingsSources, FlagsOverrideTheFileAsTypedValues) {
   ASSERT_TRUE(s.volume.solver.has_value());
   EXPECT_EQ(*s.volume.solver, rte::Method::kDopri5);
   EXPECT_EQ(s.world.camera.width, 17);
-  EXPECT_EQ(s.pointcloud.gatherVisibility, GatherVisibility::kCloud);
+  EXPECT_EQ(s.pointcloud.gatherVisibility, GatherVisibility::kCloud);  // from the file
   EXPECT_EQ(s.volume.interpolation, Interpolation::Trilinear);
   const Scene automatic = parseScene(text, "/tmp/settings.json");
   EXPECT_FALSE(automatic.volume.solver.has_value()) << "auto is the empty solver";
