@@ -52,7 +52,7 @@ void LvoxelSet::append(const LvoxelSet& other) {
   if (other.size() == 0) return;
   if (size() == 0 && light.occupiedCount() == 0) {
     light = LvoxelLight(other.light.grid());
-    light.setDeltaLights(other.light.deltaLights());
+    light.setChannels(other.light.deltaLights(), other.light.phases());
   } else if (!(light.grid() == other.light.grid())) {
     throw std::logic_error("appending lvoxels of another grid");
   }

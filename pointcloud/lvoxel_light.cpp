@@ -16,6 +16,7 @@ uint32_t LvoxelLight::occupy(long cell) {
     cell_.push_back(cell);
     centre_.push_back(grid_.centre(cell));
     transmittance_.resize(cell_.size() * deltaLights_, RGB(0.0f));
+    towardsCamera_.resize(cell_.size() * phases_, RGB(0.0f));
     areaInScatter_.emplace_back(0.0f);
     directInScatter_.emplace_back(0.0f);
     multiScatter_.emplace_back(0.0f);
@@ -28,14 +29,17 @@ long LvoxelLight::slotOf(const Vec3& p) const {
   return cell < 0 || slotOfCell_.empty() ? -1 : slotOfCell_[static_cast<size_t>(cell)];
 }
 
-void LvoxelLight::setDeltaLights(size_t count) {
-  deltaLights_ = count;
-  transmittance_.assign(cell_.size() * count, RGB(0.0f));
+void LvoxelLight::setChannels(size_t deltaLights, size_t phases) {
+  deltaLights_ = deltaLights;
+  phases_ = phases;
+  transmittance_.assign(cell_.size() * deltaLights, RGB(0.0f));
+  towardsCamera_.assign(cell_.size() * phases, RGB(0.0f));
 }
 
-bool LvoxelLight::interpolate(const Vec3& p, RGB* out) const {
-  const size_t n = channels();
-  std::fill(out, out + n, RGB(0.0f));
+bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
+  out.transmittance.assign(deltaLights_, RGB(0.0f));
+  out.multiScatter = RGB(0.0f);
+  out.towardsCamera.assign(phases_, RGB(0.0f));
   if (slotOfCell_.empty()) return false;
   long base[3];
   float frac[3];
@@ -61,19 +65,23 @@ bool LvoxelLight::interpolate(const Vec3& p, RGB* out) const {
     if (s < 0) continue;
     const auto slot = static_cast<size_t>(s);
     const RGB* tr = &transmittance_[slot * deltaLights_];
-    for (size_t k = 0; k < deltaLights_; ++k) out[k] += tr[k] * w;
-    out[deltaLights_] += (areaInScatter_[slot] + multiScatter_[slot]) * w;
+    for (size_t k = 0; k < deltaLights_; ++k) out.transmittance[k] += tr[k] * w;
+    out.multiScatter += multiScatter_[slot] * w;
+    const RGB* camera = &towardsCamera_[slot * phases_];
+    for (size_t m = 0; m < phases_; ++m) out.towardsCamera[m] += camera[m] * w;
     weightSum += w;
   }
   if (!(weightSum > 0.0f)) return false;
   const float inv = 1.0f / weightSum;
-  for (size_t ch = 0; ch < n; ++ch) out[ch] *= inv;
+  for (RGB& t : out.transmittance) t *= inv;
+  out.multiScatter *= inv;
+  for (RGB& c : out.towardsCamera) c *= inv;
   return true;
 }
 
 size_t LvoxelLight::memoryBytes() const {
   return slotOfCell_.size() * sizeof(int32_t) + cell_.size() * (sizeof(long) + sizeof(Vec3)) +
-         (transmittance_.size() + 3 * cell_.size()) * sizeof(RGB);
+         (transmittance_.size() + towardsCamera_.size() + 3 * cell_.size()) * sizeof(RGB);
 }
 
 }  // namespace lvox

@@ -79,13 +79,14 @@ LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPe
     const MediumForLvoxels adapter{m, media.bounds(), activeBoxes(m)};
     all.append(sampleLvoxels(adapter, settings));
   }
-  all.light.setDeltaLights(lights.lights().size());
+  all.light.setChannels(lights.lights().size(), media.size());
   return all;
 }
 
 void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
                             LvoxelLight& light, rte::SolveCounts& counts) {
   const LightSet& lights = ctx.lights;
+  const MediaSet& media = volume.media();
   const size_t deltaCount = lights.lights().size();
   tbb::combinable<rte::SolveCounts> perThread;
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t slot) {
@@ -103,11 +104,20 @@ void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& vol
           distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance, local) : RGB(1.0f);
     }
     Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
+    // Samples are weighted 1/pdf already: their sum estimates the integral of L dw, and
+    // with each medium's phase towards the camera, its in-scatter along camera rays.
+    const auto cell = static_cast<uint32_t>(slot);
+    const Vec3 viewDir = normalize(x - ctx.world.camera.position);
     RGB isotropic(0.0f);
+    RGB* towardsCamera = light.towardsCamera(cell);
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
-      isotropic += s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);
+      const RGB arriving = s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);
+      isotropic += arriving;
+      const float cosTheta = dot(s.wi, viewDir);
+      for (size_t m = 0; m < media.size(); ++m)
+        towardsCamera[m] += arriving * media[m].phase.eval(cosTheta);
     });
-    light.areaInScatter(static_cast<uint32_t>(slot)) = isotropic * kInv4Pi;
+    light.areaInScatter(cell) = isotropic * kInv4Pi;
   });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
 }
@@ -124,9 +134,8 @@ RGB phaseAveragedDirect(const LightSet& lights, LvoxelLight& light, uint32_t slo
 
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
                                   const MediumCoefficients* perMedium) const {
-  thread_local std::vector<RGB> values;
-  values.resize(light.channels());
-  if (!light.interpolate(x, values.data())) return RGB(0.0f);
+  thread_local LvoxelLightSample cached;
+  if (!light.interpolate(x, cached)) return RGB(0.0f);
   const size_t deltaCount = lights.lights().size();
   // Light samples of the delta lights at x: exact direction, falloff and spot profile.
   thread_local std::vector<LightSample> samples;
@@ -135,11 +144,12 @@ RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
   RGB source(0.0f);
   for (size_t m = 0; m < media.size(); ++m) {
     if (isBlack(perMedium[m].sigmaS)) continue;
-    RGB incident = values[deltaCount];
+    const PhaseFunction& phase = media[m].phase;
+    RGB incident = cached.multiScatter + cached.towardsCamera[m];
     for (size_t k = 0; k < deltaCount; ++k) {
       if (isBlack(samples[k].radiance)) continue;
-      incident +=
-          samples[k].radiance * values[k] * media[m].phase.eval(dot(samples[k].wi, viewDir));
+      incident += samples[k].radiance * cached.transmittance[k] *
+                  phase.eval(dot(samples[k].wi, viewDir));
     }
     source += perMedium[m].sigmaS * incident;
   }

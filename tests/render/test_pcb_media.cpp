@@ -89,3 +89,41 @@ TEST(PointBasedMedia, MultipleScatteringAgreesWithMonteCarlo) {
 
 }  // namespace
 }  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// Anisotropic lvoxels: a forward-scattering slab lit only by an area light above and behind
+// it, seen at about 34 degrees from the light's direction; single scattering (pcb without
+// bounces against mc with one event). An isotropic cache gives what the g = 0 medium gives
+// (the mean of the incident radiance), half the right answer here. The lvoxels keep the
+// area light scattered towards the camera with the medium's own phase, so pcb must land
+// on Monte Carlo (measured: 0.3 % off at this spacing, against 400k spp; 6.8 % at twice
+// the spacing, the interpolation between cells). MC at 200k spp has about 0.5 % noise.
+std::string forwardScatteringSlab(float g, const std::string& mode) {
+  const std::string phase = g == 0.0f ? "" : R"(, "g": )" + std::to_string(g) + R"(, "phase": "hg")";
+  return R"({
+    "camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "vfov_deg": 2, "width": 1, "height": 1},
+    "render": {"mode": ")" + mode + R"(", "max_bounces": 1, "area_light_samples": 512},
+    "materials": {"lamp": {"albedo": 0, "emission": 10}},
+    "shapes": [{"type": "quad", "material": "lamp",
+                "corners": [[-1.5, 2.5, -4], [1.5, 2.5, -4], [1.5, 1.0, -1.5], [-1.5, 1.0, -1.5]]}],
+    "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [1, 1, 1],
+               "sigma_a": 0.02, "sigma_s": 0.5)" + phase + R"(}],
+    "volume_integrator": {"solver": "rk4", "step": 0.05},
+    "pointcloud": {"lvoxel_spacing": 0.125, "bounces": 0, "target_surfels": 2000}})";
+}
+
+TEST(PointBasedMedia, AnisotropicLvoxelsMatchMonteCarloWhereIsotropicOnesAreFarOff) {
+  const float isotropic = renderPixel(forwardScatteringSlab(0.0f, "mc"), "mc", 200000).value.x;
+  for (const float g : {0.5f, 0.8f}) {
+    const float mc = renderPixel(forwardScatteringSlab(g, "mc"), "mc", 200000).value.x;
+    const float pcb = renderPixel(forwardScatteringSlab(g, "pcb"), "pcb", 16).value.x;
+    // The scene matters: the isotropic answer is more than 10 % off.
+    EXPECT_GT(std::abs(isotropic - mc), 0.1f * mc) << "g " << g;
+    EXPECT_NEAR(pcb, mc, 0.03f * mc) << "g " << g << ", isotropic " << isotropic;
+  }
+}
+
+}  // namespace
+}  // namespace lvox
