@@ -58,19 +58,16 @@ void writeConvergenceCsv(const std::string& path, const std::vector<ConvergenceP
 // The flags that set a scene field, as overrides the scene loader checks like the field.
 std::vector<SettingOverride> overrides(const RenderFlags& f) {
   std::vector<SettingOverride> out;
-  auto add = [&](const char* flag, const char* section, const char* key, const auto& value) {
-    if (value) out.push_back({flag, section, key, *value});
-  };
-  add("--mode", "render", "mode", f.mode);
-  add("--spp", "render", "spp", f.spp);
-  add("--max-bounces", "render", "max_bounces", f.maxBounces);
-  add("--seed", "render", "seed", f.seed);
-  add("--threads", "render", "threads", f.threads);
-  add("--width", "camera", "width", f.width);
-  add("--height", "camera", "height", f.height);
-  add("--solver", "volume_integrator", "solver", f.solver);
-  add("--step", "volume_integrator", "step", f.step);
-  add("--tol", "volume_integrator", "tolerance", f.tolerance);
+  addOverride(out, flags::kMode, f.mode);
+  addOverride(out, flags::kSpp, f.spp);
+  addOverride(out, flags::kMaxBounces, f.maxBounces);
+  addOverride(out, flags::kSeed, f.seed);
+  addOverride(out, flags::kThreads, f.threads);
+  addOverride(out, flags::kWidth, f.width);
+  addOverride(out, flags::kHeight, f.height);
+  addOverride(out, flags::kSolver, f.solver);
+  addOverride(out, flags::kStep, f.step);
+  addOverride(out, flags::kTolerance, f.tolerance);
   return out;
 }
 
@@ -166,16 +163,16 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->required();
   cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
   // Flags that set scene fields are checked by the scene loader, exactly like the fields.
-  cmd->add_option("--mode", flags->mode, modeNames());
-  cmd->add_option("--spp", flags->spp, "Samples per pixel");
-  cmd->add_option("--max-bounces", flags->maxBounces, "Scattering events per path");
-  cmd->add_option("--seed", flags->seed, "Random seed");
-  cmd->add_option("--threads", flags->threads, "Worker threads (0: all cores)");
-  cmd->add_option("--width", flags->width, "Image width");
-  cmd->add_option("--height", flags->height, "Image height");
-  cmd->add_option("--solver", flags->solver, "Volume solver: auto or a method (docs/solvers.md)");
-  cmd->add_option("--step", flags->step, "Volume step in scene units");
-  cmd->add_option("--tol", flags->tolerance, "Tolerance of adaptive volume solvers");
+  cmd->add_option(flags::kMode.flag, flags->mode, modeNames());
+  cmd->add_option(flags::kSpp.flag, flags->spp, "Samples per pixel");
+  cmd->add_option(flags::kMaxBounces.flag, flags->maxBounces, "Scattering events per path");
+  cmd->add_option(flags::kSeed.flag, flags->seed, "Random seed");
+  cmd->add_option(flags::kThreads.flag, flags->threads, "Worker threads (0: all cores)");
+  cmd->add_option(flags::kWidth.flag, flags->width, "Image width");
+  cmd->add_option(flags::kHeight.flag, flags->height, "Image height");
+  cmd->add_option(flags::kSolver.flag, flags->solver, "Volume solver: auto or a method (docs/solvers.md)");
+  cmd->add_option(flags::kStep.flag, flags->step, "Volume step in scene units");
+  cmd->add_option(flags::kTolerance.flag, flags->tolerance, "Tolerance of adaptive volume solvers");
   cmd->add_option("--first-sample", flags->firstSample,
                   "Index of the first sample: render chunk [first, first+spp) of a longer run");
   cmd->add_option("--time-limit", flags->timeLimit,

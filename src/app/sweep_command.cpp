@@ -256,14 +256,11 @@ SweepPlan parseFlags(const SweepFlags& f) {
       throw InputError("--methods", "", "mc needs --mc-spp");
   }
   sweep.referenceSolver = parseSolver(f.referenceSolver, "--reference-solver", "");
-  auto add = [&](const char* flag, const char* section, const char* key, const auto& value) {
-    if (value) sweep.overrides.push_back({flag, section, key, *value});
-  };
-  add("--mode", "render", "mode", f.mode);
-  add("--spp", "render", "spp", f.spp);
-  add("--threads", "render", "threads", f.threads);
-  add("--width", "camera", "width", f.width);
-  add("--height", "camera", "height", f.height);
+  addOverride(sweep.overrides, flags::kMode, f.mode);
+  addOverride(sweep.overrides, flags::kSpp, f.spp);
+  addOverride(sweep.overrides, flags::kThreads, f.threads);
+  addOverride(sweep.overrides, flags::kWidth, f.width);
+  addOverride(sweep.overrides, flags::kHeight, f.height);
   return sweep;
 }
 
@@ -271,7 +268,7 @@ int runSweep(const SweepFlags& f) {
   const SweepPlan sweep = parseFlags(f);
   Scene scene = loadScene(f.scene, sweep.overrides);
   if (scene.render.mode == Mode::kMc)
-    throw InputError(f.mode ? "--mode" : f.scene, f.mode ? "" : "render.mode",
+    throw InputError(f.mode ? flags::kMode.flag : f.scene, f.mode ? "" : "render.mode",
                      "the sweep compares solvers: use direct, pcb or pcb-surfels");
   if (!fs::is_directory(f.outDir))
     throw InputError(f.outDir, "--output", "is not an existing directory");
@@ -346,11 +343,11 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--reference-solver", f->referenceSolver, "Solver of the fine reference");
   cmd->add_option("--reference-step-scale", f->referenceStepScale,
                   "Step of the fine reference as a multiple of the scene's step");
-  cmd->add_option("--mode", f->mode, "direct | pcb | pcb-surfels");
-  cmd->add_option("--width", f->width, "Image width");
-  cmd->add_option("--height", f->height, "Image height");
-  cmd->add_option("--spp", f->spp, "Samples per pixel of the solver renders");
-  cmd->add_option("--threads", f->threads, "Worker threads (0: all cores)");
+  cmd->add_option(flags::kMode.flag, f->mode, "direct | pcb | pcb-surfels");
+  cmd->add_option(flags::kWidth.flag, f->width, "Image width");
+  cmd->add_option(flags::kHeight.flag, f->height, "Image height");
+  cmd->add_option(flags::kSpp.flag, f->spp, "Samples per pixel of the solver renders");
+  cmd->add_option(flags::kThreads.flag, f->threads, "Worker threads (0: all cores)");
   cmd->add_flag("!--no-plot", f->plot, "Write only the CSV");
   cmd->add_flag("-q,--quiet", f->quiet, "No progress lines");
   cmd->callback([f, &exitCode]() { exitCode = runSweep(*f); });

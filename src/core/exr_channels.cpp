@@ -15,6 +15,7 @@
 #include <fstream>
 
 #include "src/core/atomic_file.h"
+#include "src/core/exr_input.h"
 #include "src/core/error.h"
 
 namespace lvox {
@@ -39,15 +40,11 @@ Imf::Slice floatSlice(std::vector<float>& plane, const Imath::Box2i& dw, int wid
 }
 
 ExrChannels readOpened(const std::string& path, Imf::InputFile& in) {
-  if (!in.isComplete()) throw InputError(path, "", "the EXR file is incomplete (truncated?)");
-  const Imath::Box2i dw = in.header().dataWindow();
-  const long long w = static_cast<long long>(dw.max.x) - dw.min.x + 1;
-  const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
-  if (w <= 0 || h <= 0 || w * h > (1ll << 30))
-    throw InputError(path, "", "the EXR data window has an unusable size");
+  const ExrSize size = checkedExrSize(path, in);
+  const Imath::Box2i& dw = size.window;
   ExrChannels out;
-  out.width = static_cast<int>(w);
-  out.height = static_cast<int>(h);
+  out.width = size.width;
+  out.height = size.height;
   const Imf::ChannelList& list = in.header().channels();
   for (auto it = list.begin(); it != list.end(); ++it) {
     if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
@@ -59,7 +56,7 @@ ExrChannels readOpened(const std::string& path, Imf::InputFile& in) {
   out.planes.resize(out.names.size());
   Imf::FrameBuffer fb;
   for (size_t c = 0; c < out.names.size(); ++c) {
-    out.planes[c].assign(static_cast<size_t>(w * h), 0.0f);
+    out.planes[c].assign(static_cast<size_t>(size.width) * static_cast<size_t>(size.height), 0.0f);
     fb.insert(out.names[c], floatSlice(out.planes[c], dw, out.width));
   }
   in.setFrameBuffer(fb);

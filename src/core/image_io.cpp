@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "src/core/atomic_file.h"
+#include "src/core/exr_input.h"
 #include "src/core/error.h"
 
 namespace lvox {
@@ -100,13 +101,9 @@ Image readExr(const std::string& path, ImageMetadata* metadata) {
   }
   try {
     Imf::InputFile in(path.c_str());
-    if (!in.isComplete()) throw InputError(path, "", "the EXR file is incomplete (truncated?)");
-    const Imath::Box2i dw = in.header().dataWindow();
-    const long long w = static_cast<long long>(dw.max.x) - dw.min.x + 1;
-    const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
-    if (w <= 0 || h <= 0 || w * h > (1ll << 30))
-      throw InputError(path, "", "the EXR data window has an unusable size");
-    Image image(static_cast<int>(w), static_cast<int>(h));
+    const ExrSize size = checkedExrSize(path, in);
+    const Imath::Box2i& dw = size.window;
+    Image image(size.width, size.height);
     const Imf::ChannelList& list = in.header().channels();
     const bool rgb = list.findChannel("R") && list.findChannel("G") && list.findChannel("B");
     const bool grey = list.findChannel("Y") != nullptr;
@@ -114,8 +111,8 @@ Image readExr(const std::string& path, ImageMetadata* metadata) {
     std::vector<float> planes[3];
     Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
-    const size_t n = static_cast<size_t>(w * h);
-    const size_t xStride = sizeof(float), yStride = sizeof(float) * static_cast<size_t>(w);
+    const size_t n = static_cast<size_t>(size.width) * static_cast<size_t>(size.height);
+    const size_t xStride = sizeof(float), yStride = sizeof(float) * static_cast<size_t>(size.width);
     for (int c = 0; c < 3; ++c) {
       planes[c].assign(n, 0.0f);
       // Offset the base so that pixel (dw.min.x, dw.min.y) lands at index 0.

@@ -7,6 +7,7 @@
 // flag's value passes exactly the checks of the field it sets and an error names the flag.
 // Every setting is parsed and checked before any mesh or grid is loaded.
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,32 @@ struct SettingOverride {
   std::string key;
   nlohmann::json value;
 };
+
+// The scene field a command-line flag sets; one table for every subcommand.
+struct FlagField {
+  const char* flag;
+  const char* section;
+  const char* key;
+};
+namespace flags {
+inline constexpr FlagField kMode{"--mode", "render", "mode"};
+inline constexpr FlagField kSpp{"--spp", "render", "spp"};
+inline constexpr FlagField kMaxBounces{"--max-bounces", "render", "max_bounces"};
+inline constexpr FlagField kSeed{"--seed", "render", "seed"};
+inline constexpr FlagField kThreads{"--threads", "render", "threads"};
+inline constexpr FlagField kWidth{"--width", "camera", "width"};
+inline constexpr FlagField kHeight{"--height", "camera", "height"};
+inline constexpr FlagField kSolver{"--solver", "volume_integrator", "solver"};
+inline constexpr FlagField kStep{"--step", "volume_integrator", "step"};
+inline constexpr FlagField kTolerance{"--tol", "volume_integrator", "tolerance"};
+}  // namespace flags
+
+// Appends the override of `field` when the flag was given.
+template <class T>
+void addOverride(std::vector<SettingOverride>& out, const FlagField& field,
+                 const std::optional<T>& value) {
+  if (value) out.push_back({field.flag, field.section, field.key, *value});
+}
 
 // Throws InputError naming the file and field (or the flag) on any problem; unknown keys
 // are errors, not ignored.
