@@ -52,4 +52,25 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   return s;
 }
 
+SettingList describe(const PointCloudSettings& s) {
+  SettingList l;
+  const std::string p = "pointcloud.";
+  l.add(p + "surfel_spacing", s.surfelSpacing);
+  l.add(p + "target_surfels", s.targetSurfels);
+  l.add(p + "surfel_sampler", surfelSamplerName(s.surfelSampler));
+  l.add(p + "lvoxel_spacing", s.lvoxelSpacing);
+  l.add(p + "lvoxel_samples", s.lvoxelSamples);
+  l.add(p + "lvoxel_gather_samples", s.lvoxelGatherSamples);
+  l.add(p + "bounces", s.bounces);
+  l.add(p + "burial_reach", s.burialReach);
+  l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
+  l.add(p + "surfel_gather_samples", s.surfelGatherSamples);
+  l.add(p + "gather_samples", s.gatherSamples);
+  l.add(p + "gather_spacing", s.gatherSpacing);
+  l.add(p + "gather_filter", s.gatherFilter);
+  l.add(p + "lvoxel_cluster_solid_angle", s.lvoxelClusterSolidAngle);
+  l.add(p + "cluster_solid_angle", s.clusterSolidAngle);
+  return l;
+}
+
 }  // namespace lvox

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "src/core/json_fields.h"
+#include "src/core/setting_list.h"
 
 namespace lvox {
 
@@ -34,6 +35,8 @@ struct PointCloudSettings {
 
 // Reads the "pointcloud" object; unknown keys and out-of-range values throw.
 PointCloudSettings parsePointCloudSettings(JsonObject p);
+// Every field, as "pointcloud.<key>" and the value the parser reads back.
+SettingList describe(const PointCloudSettings& s);
 
 GatherVisibility parseGatherVisibility(std::string_view name, const std::string& file,
                                        const std::string& field);

@@ -49,4 +49,19 @@ VolumeSettings parseVolumeSettings(JsonObject v) {
   return s;
 }
 
+SettingList describe(const VolumeSettings& s) {
+  SettingList l;
+  const std::string v = "volume_integrator.";
+  l.add(v + "solver", solverName(s.solver));
+  l.add(v + "step", s.step);
+  l.add(v + "tolerance", s.tolerance);
+  l.add(v + "min_step", s.minStep);
+  l.add(v + "max_step", s.maxStep);
+  l.add(v + "interpolation", interpolationName(s.interpolation));
+  l.add(v + "sampling", rte::samplingName(s.sampling));
+  l.add(v + "max_evaluations", s.maxEvaluations);
+  l.add(v + "majorant", majorantName(s.majorant));
+  return l;
+}
+
 }  // namespace lvox

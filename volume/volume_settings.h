@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "src/core/json_fields.h"
+#include "src/core/setting_list.h"
 #include "volume/media/dense_grid.h"
 #include "volume/rte/method.h"
 
@@ -33,6 +34,8 @@ struct VolumeSettings {
 
 // Reads the "volume_integrator" object; unknown keys and out-of-range values throw.
 VolumeSettings parseVolumeSettings(JsonObject v);
+// Every field, as "volume_integrator.<key>" and the value the parser reads back.
+SettingList describe(const VolumeSettings& s);
 
 // "auto" (empty) or a method name of volume/rte/method.h.
 std::optional<rte::Method> parseSolver(std::string_view name, const std::string& file,

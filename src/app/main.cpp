@@ -3,10 +3,12 @@
 #include <iostream>
 
 #include "src/app/commands.h"
+#include "src/app/version_info.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"lvox: point-based global illumination with participating media"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", lvox::versionLine());
   int exitCode = 0;
   lvox::addRenderCommand(app, exitCode);
   lvox::addCompareCommand(app, exitCode);

@@ -3,6 +3,7 @@
 // so a long reference can be built across runs without losing finished work.
 #include <algorithm>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "src/app/commands.h"
@@ -36,6 +37,30 @@ uint64_t numberAttribute(const ImageMetadata& meta, const std::string& key,
   }
 }
 
+// Chunks of one image share every setting that changes it: the scene and its files, the
+// seed and mode, every setting of the render, the volume integrator and the point cloud.
+bool sharedSetting(const std::string& key) {
+  for (const char* exact : {"lvox.seed", "lvox.mode", "lvox.scene", "lvox.scene_hash"})
+    if (key == exact) return true;
+  for (const char* prefix : {"lvox.render.", "lvox.volume_integrator.", "lvox.pointcloud."})
+    if (key.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+void requireSameSettings(const ImageMetadata& meta, const ImageMetadata& first,
+                         const std::string& path, const std::string& firstPath) {
+  std::map<std::string, std::pair<std::string, std::string>> keys;
+  for (const auto& [key, value] : first)
+    if (sharedSetting(key)) keys[key].first = value;
+  for (const auto& [key, value] : meta)
+    if (sharedSetting(key)) keys[key].second = value;
+  for (const auto& [key, values] : keys)
+    if (values.first != values.second)
+      throw InputError(path, key,
+                       "differs from " + firstPath + " ('" + values.second + "' vs '" +
+                           values.first + "'): chunks of one render share every setting");
+}
+
 int runMerge(const MergeFlags& f) {
   std::vector<Chunk> chunks;
   ImageMetadata first;
@@ -48,11 +73,7 @@ int runMerge(const MergeFlags& f) {
     if (chunks.empty()) {
       first = meta;
     } else {
-      for (const char* key : {"lvox.seed", "lvox.mode", "lvox.scene"})
-        if (meta[key] != first[key])
-          throw InputError(path, key,
-                           "differs from " + f.inputs.front() + " ('" + meta[key] + "' vs '" +
-                               first[key] + "')");
+      requireSameSettings(meta, first, path, f.inputs.front());
       if (c.image.width != chunks[0].image.width || c.image.height != chunks[0].image.height)
         throw InputError(path, "", "has a different size than " + f.inputs.front());
     }

@@ -10,6 +10,8 @@
 
 #include "src/app/commands.h"
 #include "src/app/render_output.h"
+#include "src/app/version_info.h"
+#include "src/core/file_hash.h"
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
 #include "src/core/image_io.h"
@@ -124,6 +126,9 @@ int runRender(const RenderFlags& flags) {
     scene = loadScene(flags.scene, overrides(flags));
   }
   report.settings["scene"] = scene.path;
+  report.settings["scene_hash"] = hashFiles(scene.inputFiles);
+  report.settings["version"] = versionString();
+  report.settings["revision"] = gitRevision();
   RenderOutputs outputs(flags.output, flags.report, scene.inputFiles);
   RenderPlan plan;
   plan.spp = scene.render.spp;

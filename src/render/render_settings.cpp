@@ -35,4 +35,14 @@ RenderSettings parseRenderSettings(JsonObject r) {
   return s;
 }
 
+SettingList describe(const RenderSettings& s) {
+  SettingList l;
+  l.add("render.mode", modeName(s.mode));
+  l.add("render.seed", std::to_string(s.seed));
+  l.add("render.max_bounces", s.maxBounces);
+  l.add("render.area_light_samples", s.areaLightSamples);
+  l.add("render.medium_light_samples", s.mediumLightSamples);
+  return l;
+}
+
 }  // namespace lvox

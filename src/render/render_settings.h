@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "src/core/json_fields.h"
+#include "src/core/setting_list.h"
 
 namespace lvox {
 
@@ -26,6 +27,9 @@ struct RenderSettings {
 
 // Reads the "render" object; unknown keys and out-of-range values throw.
 RenderSettings parseRenderSettings(JsonObject r);
+// The fields that change an image, as "render.<key>": all but spp (chunks of one image
+// differ in it) and threads (images do not depend on it).
+SettingList describe(const RenderSettings& s);
 
 Mode parseMode(std::string_view name, const std::string& file, const std::string& field);
 std::string_view modeName(Mode mode);

@@ -72,6 +72,9 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   report.settings["spp"] = std::to_string(result.sppDone);
   report.settings["first_sample"] = std::to_string(plan.firstSample);
   report.settings["seed"] = std::to_string(settings.seed);
+  // Every setting that changes the image, by its scene field (lvox merge compares them).
+  for (const SettingList& list : {describe(job.render), describe(job.volume), describe(job.pointcloud)})
+    for (const auto& [field, value] : list.items()) report.settings[field] = value;
   const double seconds = report.times["render"];
   if (seconds > 0 && counters.paths.load() > 0)
     report.settings["paths_per_second"] =

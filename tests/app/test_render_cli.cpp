@@ -211,6 +211,49 @@ TEST(RenderCli, ChunksMergeIntoTheFullRender) {
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
 }
 
+// A chunk rendered with another setting, or from an edited scene, is not part of the same
+// image: merge names what differs and writes nothing.
+TEST(RenderCli, MergeRefusesChunksWhoseSettingsOrSceneDiffer) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const std::string scene = (dir / "scene.json").string() + " --mode mc --spp 2";
+  ASSERT_EQ(runLvox("render " + scene + " -o " + (dir / "a.exr").string(), dir).exitCode, 0);
+  ASSERT_EQ(runLvox("render " + scene + " --first-sample 2 --max-bounces 1 -o " +
+                        (dir / "bounces.exr").string(),
+                    dir)
+                .exitCode,
+            0);
+  ASSERT_EQ(runLvox("render " + scene + " --first-sample 2 --step 0.05 -o " +
+                        (dir / "step.exr").string(),
+                    dir)
+                .exitCode,
+            0);
+  test::writeFile(dir / "scene.json", replaced("\"irradiance\": 3", "\"irradiance\": 4"));
+  ASSERT_EQ(runLvox("render " + scene + " --first-sample 2 -o " + (dir / "edited.exr").string(), dir)
+                .exitCode,
+            0);
+  for (const auto& [chunk, key] : {std::pair<std::string, std::string>{"bounces.exr", "lvox.render.max_bounces"},
+                                   {"step.exr", "lvox.volume_integrator.step"},
+                                   {"edited.exr", "lvox.scene_hash"}}) {
+    const RunResult r = runLvox("merge " + (dir / "a.exr").string() + " " + (dir / chunk).string() +
+                                    " -o " + (dir / "merged.exr").string(),
+                                dir);
+    EXPECT_EQ(r.exitCode, 1) << chunk;
+    EXPECT_NE(r.err.find(chunk + ": " + key + ": differs"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "merged.exr"));
+  }
+}
+
+TEST(RenderCli, VersionNamesTheRevision) {
+  const auto dir = test::tempDir();
+  const std::string out = (dir / "version.txt").string();
+  ASSERT_EQ(std::system((std::string(LVOX_BINARY) + " --version > " + out).c_str()), 0);
+  std::ifstream in(out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.rfind("lvox 0.1.0 (git ", 0), 0u) << line;
+}
+
 TEST(RenderCli, ConvergenceCsvHasOneRowPerDoubling) {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", kScene);
