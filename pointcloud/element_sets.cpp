@@ -43,7 +43,8 @@ void LvoxelSet::resize(size_t n) {
   halfSize.resize(n);
   sigmaA.resize(n);
   sigmaS.resize(n);
-  light = LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
+  light =
+      LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
   slot.resize(n);
   for (size_t i = 0; i < n; ++i) slot[i] = light.occupy(static_cast<long>(i));
 }

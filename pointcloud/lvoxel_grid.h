@@ -42,8 +42,8 @@ struct LvoxelGrid {
   }
   // The lower corner of cell (i, j, k).
   Vec3 cellLow(long i, long j, long k) const {
-    return origin + Vec3(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k)) *
-                        spacing;
+    return origin +
+           Vec3(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k)) * spacing;
   }
   Vec3 centre(long cell) const {
     const long k = cell / (cells[0] * cells[1]);

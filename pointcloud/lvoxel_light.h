@@ -22,8 +22,8 @@ namespace lvox {
 // The light blended at a point between cell centres (LvoxelLight::interpolate).
 struct LvoxelLightSample {
   std::vector<RGB> transmittance;  // one per delta light
-  RGB multiScatter{0.0f};           // isotropic in-scatter of the interreflection
-  std::vector<RGB> towardsCamera;   // area lights and environment, one per phase
+  RGB multiScatter{0.0f};          // isotropic in-scatter of the interreflection
+  std::vector<RGB> towardsCamera;  // area lights and environment, one per phase
 };
 
 class LvoxelLight {

@@ -2,11 +2,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "src/app/commands.h"
+#include "src/core/atomic_file.h"
+#include "src/core/error.h"
 #include "src/core/image_io.h"
 #include "src/core/image_metrics.h"
 
@@ -46,6 +49,11 @@ void writeHeatmap(const std::string& path, const Image& test, const Image& refer
 }
 
 int runCompare(const CompareFlags& f) {
+  if (!f.heatmap.empty()) {
+    if (std::filesystem::path(f.heatmap).extension() != ".png")
+      throw InputError(f.heatmap, "--heatmap", "must end in .png");
+    checkOutputPath(f.heatmap, "--heatmap", {f.test, f.reference});
+  }
   const Image test = readExr(f.test);
   const Image reference = readExr(f.reference);
   const ImageError e = compareImages(test, reference, f.test, f.reference);

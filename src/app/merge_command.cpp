@@ -2,11 +2,13 @@
 // and seed, disjoint sample ranges from --first-sample) into one image weighted by spp,
 // so a long reference can be built across runs without losing finished work.
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
 
 #include "src/app/commands.h"
+#include "src/core/atomic_file.h"
 #include "src/core/error.h"
 #include "src/core/image_io.h"
 
@@ -62,6 +64,9 @@ void requireSameSettings(const ImageMetadata& meta, const ImageMetadata& first,
 }
 
 int runMerge(const MergeFlags& f) {
+  if (std::filesystem::path(f.output).extension() != ".exr")
+    throw InputError(f.output, "--output", "must end in .exr");
+  checkOutputPath(f.output, "--output", f.inputs);
   std::vector<Chunk> chunks;
   ImageMetadata first;
   for (const std::string& path : f.inputs) {

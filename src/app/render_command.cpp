@@ -11,9 +11,9 @@
 #include "src/app/commands.h"
 #include "src/app/render_output.h"
 #include "src/app/version_info.h"
-#include "src/core/file_hash.h"
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
+#include "src/core/file_hash.h"
 #include "src/core/image_io.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -129,7 +129,10 @@ int runRender(const RenderFlags& flags) {
   report.settings["scene_hash"] = hashFiles(scene.inputFiles);
   report.settings["version"] = versionString();
   report.settings["revision"] = gitRevision();
-  RenderOutputs outputs(flags.output, flags.report, scene.inputFiles);
+  // Every file the command reads: no output may replace one.
+  std::vector<std::string> inputs = scene.inputFiles;
+  if (!flags.convergenceReference.empty()) inputs.push_back(flags.convergenceReference);
+  RenderOutputs outputs(flags.output, flags.report, inputs);
   RenderPlan plan;
   plan.spp = scene.render.spp;
   plan.firstSample = flags.firstSample;
@@ -138,7 +141,12 @@ int runRender(const RenderFlags& flags) {
   if (!flags.convergenceReference.empty()) {
     if (flags.convergenceCsv.empty())
       throw InputError(flags.convergenceReference, "--convergence", "needs --convergence-csv");
-    checkOutputPath(flags.convergenceCsv, "--convergence-csv", scene.inputFiles);
+    checkOutputPath(flags.convergenceCsv, "--convergence-csv", inputs);
+    for (const std::string& other : {outputs.exrPath(), outputs.pngPath(), flags.report})
+      if (!other.empty() && std::filesystem::weakly_canonical(other) ==
+                                std::filesystem::weakly_canonical(flags.convergenceCsv))
+        throw InputError(flags.convergenceCsv, "--convergence-csv",
+                         "is the same file as another output");
     reference = readExr(flags.convergenceReference);
     if (reference.width != scene.world.camera.width ||
         reference.height != scene.world.camera.height)
@@ -175,7 +183,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option(flags::kThreads.flag, flags->threads, "Worker threads (0: all cores)");
   cmd->add_option(flags::kWidth.flag, flags->width, "Image width");
   cmd->add_option(flags::kHeight.flag, flags->height, "Image height");
-  cmd->add_option(flags::kSolver.flag, flags->solver, "Volume solver: auto or a method (docs/solvers.md)");
+  cmd->add_option(flags::kSolver.flag, flags->solver,
+                  "Volume solver: auto or a method (docs/solvers.md)");
   cmd->add_option(flags::kStep.flag, flags->step, "Volume step in scene units");
   cmd->add_option(flags::kTolerance.flag, flags->tolerance, "Tolerance of adaptive volume solvers");
   cmd->add_option("--first-sample", flags->firstSample,

@@ -305,9 +305,8 @@ int runSweep(const SweepFlags& f) {
       &SweepRow::paretoEvals);
   const std::string name = fs::path(f.scene).stem().string();
   writeText(csvPath, csvText(name, scene.render.mode, rows));
-  const std::string title = name + " (" + mode + ", " +
-                            std::to_string(scene.world.camera.width) + "x" +
-                            std::to_string(scene.world.camera.height) + ", " +
+  const std::string title = name + " (" + mode + ", " + std::to_string(scene.world.camera.width) +
+                            "x" + std::to_string(scene.world.camera.height) + ", " +
                             std::to_string(scene.render.spp) + " spp) vs " + refDescription;
   if (f.plot) plot(csvPath, pngPath, title);
   std::vector<std::pair<double, size_t>> front;

@@ -1,6 +1,6 @@
-#include "src/app/version_info.h"
-
 #include "version.h"
+
+#include "src/app/version_info.h"
 
 namespace lvox {
 

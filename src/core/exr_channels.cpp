@@ -15,8 +15,8 @@
 #include <fstream>
 
 #include "src/core/atomic_file.h"
-#include "src/core/exr_input.h"
 #include "src/core/error.h"
+#include "src/core/exr_input.h"
 
 namespace lvox {
 namespace {

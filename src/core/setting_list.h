@@ -22,7 +22,9 @@ class SettingList {
     const auto r = std::to_chars(buf, buf + sizeof buf, value);
     items_.emplace_back(field, std::string(buf, r.ptr));
   }
-  void add(const std::string& field, int value) { items_.emplace_back(field, std::to_string(value)); }
+  void add(const std::string& field, int value) {
+    items_.emplace_back(field, std::to_string(value));
+  }
   void add(const std::string& field, uint32_t value) {
     items_.emplace_back(field, std::to_string(value));
   }

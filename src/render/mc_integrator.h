@@ -2,10 +2,10 @@
 // --mode mc: the unbiased reference. A path tracer over Lambertian surfaces with
 // next-event estimation to every light, cosine-weighted continuation and Russian
 // roulette; `max_bounces` counts scattering events, so 1 is single scattering.
-#include "volume/media/majorant_tracker.h"
 #include "src/render/render_context.h"
 #include "src/render/sampler_counters.h"
 #include "src/render/tile_renderer.h"
+#include "volume/media/majorant_tracker.h"
 
 namespace lvox {
 

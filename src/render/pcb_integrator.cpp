@@ -87,7 +87,9 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         const Material& m = world.materials[world.mesh.triangleMaterial[q.triangle]];
         return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
       },
-      [&](const LvoxelLightQuery& q) { return phaseAveragedDirect(ctx.lights, lvoxelLight, q.slot); });
+      [&](const LvoxelLightQuery& q) {
+        return phaseAveragedDirect(ctx.lights, lvoxelLight, q.slot);
+      });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
 }
 

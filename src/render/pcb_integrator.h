@@ -24,7 +24,7 @@ namespace lvox {
 struct PointBasedCache {
   std::unique_ptr<PointCloud> cloud;  // its lvoxels hold their light (LvoxelLight)
   bool lvoxels = false;               // pcb mode in a scene with media
-  IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
+  IndirectGrid gathers;               // final gathers at a reduced rate; empty: at every camera hit
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };
 

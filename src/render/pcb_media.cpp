@@ -148,8 +148,8 @@ RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
     RGB incident = cached.multiScatter + cached.towardsCamera[m];
     for (size_t k = 0; k < deltaCount; ++k) {
       if (isBlack(samples[k].radiance)) continue;
-      incident += samples[k].radiance * cached.transmittance[k] *
-                  phase.eval(dot(samples[k].wi, viewDir));
+      incident +=
+          samples[k].radiance * cached.transmittance[k] * phase.eval(dot(samples[k].wi, viewDir));
     }
     source += perMedium[m].sigmaS * incident;
   }

@@ -73,7 +73,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   report.settings["first_sample"] = std::to_string(plan.firstSample);
   report.settings["seed"] = std::to_string(settings.seed);
   // Every setting that changes the image, by its scene field (lvox merge compares them).
-  for (const SettingList& list : {describe(job.render), describe(job.volume), describe(job.pointcloud)})
+  for (const SettingList& list :
+       {describe(job.render), describe(job.volume), describe(job.pointcloud)})
     for (const auto& [field, value] : list.items()) report.settings[field] = value;
   const double seconds = report.times["render"];
   if (seconds > 0 && counters.paths.load() > 0)

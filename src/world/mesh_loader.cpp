@@ -150,6 +150,21 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
   return stats;
 }
 
+std::vector<std::string> objMaterialLibraries(const std::string& path) {
+  std::vector<std::string> out;
+  std::ifstream in(path, std::ios::binary);
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string keyword, name;
+    words >> keyword;
+    if (keyword != "mtllib") continue;
+    while (words >> name) out.push_back((folder / name).lexically_normal().string());
+  }
+  return out;
+}
+
 MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
                       uint32_t material, World& world) {
   requireReadable(path, field);

@@ -2,6 +2,7 @@
 // Loads triangle meshes (OBJ with MTL colours, PLY) into the world's mesh.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "src/world/world.h"
 
@@ -17,6 +18,10 @@ struct MeshLoadStats {
 // `materialOverride` is the index of a material to use for every triangle.
 MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
                       std::optional<uint32_t> materialOverride, World& world);
+
+// The material libraries an OBJ names (its `mtllib` lines), resolved against its folder:
+// files the render reads, which no output may replace.
+std::vector<std::string> objMaterialLibraries(const std::string& path);
 
 // Appends the PLY's triangles (polygons are triangulated), all with `material`.
 MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,

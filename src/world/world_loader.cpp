@@ -113,6 +113,7 @@ void parseShape(JsonObject s, World& world, std::vector<std::string>& inputFiles
       if (s.has("material")) material = findMaterial(s, world);
       inputFiles.push_back(file);
       loadObj(file, s.fieldPath("file"), xf, material, world);
+      for (const std::string& mtl : objMaterialLibraries(file)) inputFiles.push_back(mtl);
       break;
     }
     case ShapeType::Ply: {

@@ -155,6 +155,49 @@ TEST(RenderCli, RefusesToOverwriteInputAndMissingDirectory) {
   EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
 }
 
+// Every command checks each output against every file it reads (the OBJ's MTL library,
+// a convergence reference, compare's images, merge's chunks) before writing anything.
+TEST(RenderCli, NoOutputReplacesAnyFileTheCommandReads) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "mesh.obj",
+                  "mtllib mesh.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl m\nf 1 2 3\n");
+  const std::string mtl = "newmtl m\nKd 0.5 0.5 0.5\n";
+  test::writeFile(dir / "mesh.mtl", mtl);
+  test::writeFile(
+      dir / "scene.json",
+      replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"mesh.obj\"},"));
+  const std::string scene = (dir / "scene.json").string();
+  ASSERT_EQ(runLvox("render " + scene + " -o " + (dir / "a.exr").string(), dir).exitCode, 0);
+  auto contents = [&](const std::string& name) {
+    std::ifstream in(dir / name, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  const std::string exr = contents("a.exr");
+  const std::pair<std::string, std::string> cases[] = {
+      {"render " + scene + " -o " + (dir / "b.exr").string() + " --report " +
+           (dir / "mesh.mtl").string(),
+       "--report: would overwrite the input"},
+      {"render " + scene + " -o " + (dir / "a.exr").string() + " --convergence " +
+           (dir / "a.exr").string() + " --convergence-csv " + (dir / "c.csv").string(),
+       "--output: would overwrite the input"},
+      {"compare " + (dir / "a.exr").string() + " " + (dir / "a.exr").string() + " --heatmap " +
+           (dir / "a.exr").string(),
+       "--heatmap: must end in .png"},
+      {"merge " + (dir / "a.exr").string() + " -o " + (dir / "a.exr").string(),
+       "--output: would overwrite the input"}};
+  for (const auto& [args, expected] : cases) {
+    const RunResult r = runLvox(args, dir);
+    EXPECT_EQ(r.exitCode, 1) << args;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(contents("mesh.mtl"), mtl);
+  EXPECT_EQ(contents("a.exr"), exr);
+  EXPECT_EQ(listDir(dir),
+            (std::vector<std::string>{"a.exr", "a.png", "mesh.mtl", "mesh.obj", "scene.json"}));
+}
+
 TEST(RenderCli, SameImageForAnyThreadCount) {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", kScene);
@@ -223,18 +266,20 @@ TEST(RenderCli, MergeRefusesChunksWhoseSettingsOrSceneDiffer) {
                     dir)
                 .exitCode,
             0);
-  ASSERT_EQ(runLvox("render " + scene + " --first-sample 2 --step 0.05 -o " +
-                        (dir / "step.exr").string(),
-                    dir)
-                .exitCode,
-            0);
+  ASSERT_EQ(
+      runLvox("render " + scene + " --first-sample 2 --step 0.05 -o " + (dir / "step.exr").string(),
+              dir)
+          .exitCode,
+      0);
   test::writeFile(dir / "scene.json", replaced("\"irradiance\": 3", "\"irradiance\": 4"));
-  ASSERT_EQ(runLvox("render " + scene + " --first-sample 2 -o " + (dir / "edited.exr").string(), dir)
-                .exitCode,
-            0);
-  for (const auto& [chunk, key] : {std::pair<std::string, std::string>{"bounces.exr", "lvox.render.max_bounces"},
-                                   {"step.exr", "lvox.volume_integrator.step"},
-                                   {"edited.exr", "lvox.scene_hash"}}) {
+  ASSERT_EQ(
+      runLvox("render " + scene + " --first-sample 2 -o " + (dir / "edited.exr").string(), dir)
+          .exitCode,
+      0);
+  for (const auto& [chunk, key] :
+       {std::pair<std::string, std::string>{"bounces.exr", "lvox.render.max_bounces"},
+        {"step.exr", "lvox.volume_integrator.step"},
+        {"edited.exr", "lvox.scene_hash"}}) {
     const RunResult r = runLvox("merge " + (dir / "a.exr").string() + " " + (dir / chunk).string() +
                                     " -o " + (dir / "merged.exr").string(),
                                 dir);
