@@ -42,14 +42,15 @@ struct RenderFlags {
   bool quiet = false;
 };
 
-void writeConvergenceCsv(const std::string& path, const std::vector<ConvergencePoint>& points) {
+void stageConvergenceCsv(OutputSet& set, const std::string& path,
+                         const std::vector<ConvergencePoint>& points) {
   std::ostringstream csv;
   csv << "spp,seconds,delta_percent,relmse,rmse,psnr_db,max_abs\n";
   for (const ConvergencePoint& p : points)
     csv << p.spp << ',' << p.seconds << ',' << p.error.deltaPercent << ',' << p.error.relMse << ','
         << p.error.rmse << ',' << p.error.psnrDb << ',' << p.error.maxAbs << '\n';
   const std::string text = csv.str();
-  publishAtomically(path, [&](const std::string& tmp) {
+  set.stage(path, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
     out.close();
@@ -159,8 +160,9 @@ int runRender(const RenderFlags& flags) {
   report.memory["peak_rss"] = peakRssBytes();
   report.times["total"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  outputs.write(image, report, flags.half);
-  if (plan.reference) writeConvergenceCsv(flags.convergenceCsv, result.convergence);
+  outputs.write(image, report, flags.half, [&](OutputSet& set) {
+    if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
+  });
   if (!flags.quiet) printSummary(scene, report, outputs.exrPath());
   return 0;
 }

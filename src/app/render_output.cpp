@@ -25,26 +25,30 @@ RenderOutputs::RenderOutputs(std::string exrPath, std::string reportPath,
   }
 }
 
-void RenderOutputs::write(const Image& image, Report& report, bool half) const {
+void RenderOutputs::write(const Image& image, Report& report, bool half,
+                          const std::function<void(OutputSet&)>& extra) const {
+  OutputSet set;
   ImageMetadata meta;
   for (const auto& [key, value] : report.settings) meta["lvox." + key] = value;
-  const ExrWriteStats stats = writeExr(exr_, image, half, meta);
+  const ExrWriteStats stats = writeExr(exr_, image, half, meta, &set);
   if (stats.sanitized)
     report.warnings.push_back(std::to_string(stats.sanitized) +
                               " NaN/Inf/negative values written as 0");
   if (stats.clamped)
     report.warnings.push_back(std::to_string(stats.clamped) +
                               " values above 65504 clamped in the half-float EXR");
-  writePng(png_, image);
+  writePng(png_, image, 1.0f, &set);
   if (!report_.empty()) {
     const std::string text = report.toJson().dump(2) + "\n";
-    publishAtomically(report_, [&](const std::string& tmp) {
+    set.stage(report_, [&](const std::string& tmp) {
       std::ofstream out(tmp, std::ios::binary);
       out << text;
       out.close();
       if (!out) throw std::runtime_error("cannot write the report");
     });
   }
+  if (extra) extra(set);
+  set.commit();
 }
 
 }  // namespace lvox

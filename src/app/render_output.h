@@ -2,9 +2,11 @@
 // The files a render publishes: OUT.exr, its PNG preview and the optional report. They
 // are checked before rendering (so a bad path fails fast) and each is written to a
 // temporary file and renamed, so an interrupted or failed run loses nothing.
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "src/core/atomic_file.h"
 #include "src/core/image.h"
 #include "src/render/report.h"
 
@@ -16,7 +18,10 @@ class RenderOutputs {
   // or any output would overwrite one of `inputs`.
   RenderOutputs(std::string exrPath, std::string reportPath, std::vector<std::string> inputs);
 
-  void write(const Image& image, Report& report, bool half) const;
+  // Stages the EXR, the PNG, the report and whatever `extra` stages, then publishes them
+  // together: either all are in place or none is.
+  void write(const Image& image, Report& report, bool half,
+             const std::function<void(OutputSet&)>& extra = {}) const;
   const std::string& exrPath() const { return exr_; }
   const std::string& pngPath() const { return png_; }
 

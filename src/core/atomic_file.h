@@ -9,9 +9,35 @@
 
 namespace lvox {
 
-// `write(tmpPath)` writes the content to tmpPath (by path, as OpenEXR and libpng want);
-// `verify(tmpPath)`, if given, throws when the written file is unusable. Errors are
-// thrown as InputError naming `path`.
+using WriteFn = std::function<void(const std::string&)>;
+
+// Outputs published together (an image, its preview and its report): each is written to
+// its temporary when staged; commit() renames them all into place, back to back. A set
+// destroyed before commit() removes its temporaries, and so does SIGINT, SIGTERM or
+// SIGHUP arriving while any are staged (the signal is then re-raised), so a failed or
+// interrupted command leaves neither a half-published set nor temporaries behind.
+class OutputSet {
+ public:
+  OutputSet() = default;
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet();
+  // `write(tmpPath)` writes the content to tmpPath (by path, as OpenEXR and libpng want);
+  // `verify(tmpPath)`, if given, throws when the written file is unusable. Errors are
+  // thrown as InputError naming `path`.
+  void stage(const std::string& path, const WriteFn& write, const WriteFn& verify = {});
+  void commit();
+
+ private:
+  struct Staged {
+    std::string path, tmp;
+    int slot;  // in the signal handler's table
+  };
+  void discard();
+  std::vector<Staged> staged_;
+};
+
+// One file, staged and committed at once.
 void publishAtomically(const std::string& path,
                        const std::function<void(const std::string&)>& write,
                        const std::function<void(const std::string&)>& verify = {});

@@ -47,7 +47,7 @@ void verifyExr(const std::string& tmp, int width, int height) {
 }  // namespace
 
 ExrWriteStats writeExr(const std::string& path, const Image& image, bool half,
-                       const ImageMetadata& metadata) {
+                       const ImageMetadata& metadata, OutputSet* set) {
   checkSize(path, image);
   ExrWriteStats stats;
   const size_t n = image.pixels.size();
@@ -89,8 +89,11 @@ ExrWriteStats writeExr(const std::string& path, const Image& image, bool half,
     out.setFrameBuffer(fb);
     out.writePixels(image.height);
   };
-  publishAtomically(path, write,
-                    [&](const std::string& tmp) { verifyExr(tmp, image.width, image.height); });
+  auto verify = [&](const std::string& tmp) { verifyExr(tmp, image.width, image.height); };
+  if (set)
+    set->stage(path, write, verify);
+  else
+    publishAtomically(path, write, verify);
   return stats;
 }
 
@@ -148,10 +151,11 @@ uint8_t toneMap(float linear, float exposure) {
   return static_cast<uint8_t>(std::lround(std::clamp(srgb, 0.0f, 1.0f) * 255.0f));
 }
 
-void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb,
+                  OutputSet* set) {
   if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * height * 3)
     throw InputError(path, "", "PNG buffer has an invalid size");
-  publishAtomically(path, [&](const std::string& tmp) {
+  auto write = [&](const std::string& tmp) {
     png_image png;
     std::memset(&png, 0, sizeof(png));
     png.version = PNG_IMAGE_VERSION;
@@ -160,16 +164,20 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
     png.format = PNG_FORMAT_RGB;
     if (!png_image_write_to_file(&png, tmp.c_str(), 0, rgb.data(), 0, nullptr))
       throw std::runtime_error(std::string("libpng: ") + png.message);
-  });
+  };
+  if (set)
+    set->stage(path, write);
+  else
+    publishAtomically(path, write);
 }
 
-void writePng(const std::string& path, const Image& image, float exposure) {
+void writePng(const std::string& path, const Image& image, float exposure, OutputSet* set) {
   checkSize(path, image);
   std::vector<uint8_t> rgb(image.pixels.size() * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c)
       rgb[3 * i + static_cast<size_t>(c)] = toneMap(image.pixels[i][c], exposure);
-  writePngRgb8(path, image.width, image.height, rgb);
+  writePngRgb8(path, image.width, image.height, rgb, set);
 }
 
 }  // namespace lvox

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "src/core/atomic_file.h"
 #include "src/core/image.h"
 
 namespace lvox {
@@ -19,8 +20,9 @@ struct ExrWriteStats {
 
 // Linear RGB OpenEXR, ZIP-compressed (lossless). Float32 by default; `half` clamps values
 // above 65504. Metadata become string attributes of the header (e.g. "lvox.spp").
+// With `set`, the file is staged in it (published by its commit) instead of at once.
 ExrWriteStats writeExr(const std::string& path, const Image& image, bool half = false,
-                       const ImageMetadata& metadata = {});
+                       const ImageMetadata& metadata = {}, OutputSet* set = nullptr);
 
 // Reads R, G, B (or Y as grey) of an OpenEXR file; throws InputError on a missing,
 // corrupt or incomplete file. String attributes are returned in `metadata`.
@@ -31,8 +33,10 @@ Image readExr(const std::string& path, ImageMetadata* metadata = nullptr);
 uint8_t toneMap(float linear, float exposure = 1.0f);
 
 // Tone-mapped 8-bit sRGB PNG preview.
-void writePng(const std::string& path, const Image& image, float exposure = 1.0f);
+void writePng(const std::string& path, const Image& image, float exposure = 1.0f,
+              OutputSet* set = nullptr);
 // An 8-bit RGB buffer (width * height * 3, top row first) as PNG.
-void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb,
+                  OutputSet* set = nullptr);
 
 }  // namespace lvox
