@@ -18,7 +18,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version print and succeed; a usage error is one line, like every error.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::cerr << "lvox: error: " << e.what() << " (--help lists the options)\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "lvox: error: " << e.what() << "\n";
     return 1;

@@ -1,5 +1,6 @@
 // `lvox render SCENE.json -o OUT.exr [...]`: flags override the scene file.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -120,6 +121,8 @@ void printSummary(const Scene& scene, const Report& report, const std::string& o
 
 int runRender(const RenderFlags& flags) {
   const auto start = std::chrono::steady_clock::now();
+  if (flags.timeLimit != 0.0 && !(std::isfinite(flags.timeLimit) && flags.timeLimit > 0.0))
+    throw InputError("--time-limit", "", "must be a finite number of seconds > 0");
   Report report;
   Scene scene;
   {

@@ -14,6 +14,12 @@ ImageError compareImages(const Image& test, const Image& reference, const std::s
                      "is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
                          " but the reference " + referenceName + " is " +
                          std::to_string(reference.width) + "x" + std::to_string(reference.height));
+  // A non-finite value makes every sum meaningless (an all-NaN reference would read 0 %).
+  for (const auto& [image, name] : {std::pair<const Image*, const std::string*>{&test, &testName},
+                                    {&reference, &referenceName}})
+    for (const RGB& p : image->pixels)
+      if (!isFinite(p))
+        throw InputError(*name, "", "holds NaN or infinite values: no error can be measured");
   double sumAbs = 0.0, sumRef = 0.0, sumTest = 0.0, sumSq = 0.0, sumRel = 0.0, peak = 0.0,
          maxAbs = 0.0;
   for (size_t i = 0; i < test.pixels.size(); ++i)

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "src/core/error.h"
@@ -21,9 +22,52 @@ std::string indexed(const std::string& key, size_t i) {
   return key + "[" + std::to_string(i) + "]";
 }
 
+// Object keys seen so far, per nesting level, to refuse a key given twice (JSON parsers
+// silently keep the last one). Arrays push an empty level.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(const std::string& path) : path_(path) {}
+  bool operator()(int, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        levels_.push_back({{}, ""});
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        levels_.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        Level& level = levels_.back();
+        level.current = parsed.get<std::string>();
+        if (!level.keys.insert(level.current).second)
+          throw InputError(path_, fieldPath(), "given twice in one object");
+        break;
+      }
+      case json::parse_event_t::value:
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Level {
+    std::set<std::string> keys;
+    std::string current;
+  };
+  std::string fieldPath() const {
+    std::string p;
+    for (const Level& l : levels_)
+      if (!l.current.empty()) p += (p.empty() ? "" : ".") + l.current;
+    return p;
+  }
+  std::string path_;
+  std::vector<Level> levels_;
+};
+
 json parseJson(const std::string& text, const std::string& path) {
   try {
-    return json::parse(text);
+    return json::parse(text, DuplicateKeyCheck(path));
   } catch (const json::parse_error& e) {
     // Turn the byte offset into line and column.
     size_t line = 1, col = 1;

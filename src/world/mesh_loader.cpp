@@ -111,6 +111,9 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
       const RGB kd(clampAlbedo(m.diffuse[0]), clampAlbedo(m.diffuse[1]), clampAlbedo(m.diffuse[2]));
       const RGB ke(std::max(0.0f, m.emission[0]), std::max(0.0f, m.emission[1]),
                    std::max(0.0f, m.emission[2]));
+      // The bound of a scene file's "emission": beyond it a pixel is no longer a radiance.
+      if (!isFinite(ke) || maxComponent(ke) > 1e9f)
+        throw InputError(path, field, "material '" + m.name + "': Ke outside [0, 1e9]");
       mtlToScene.push_back(materialIndex(world, stem + "/" + m.name, kd, ke));
     }
   }

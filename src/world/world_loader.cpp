@@ -71,6 +71,7 @@ Camera parseCamera(JsonObject c) {
   if (!(cam.vfovDeg > 0.0f && cam.vfovDeg < 180.0f)) c.fail("vfov_deg", "must be in (0, 180)");
   cam.width = c.integer("width", 1, 16384, 512);
   cam.height = c.integer("height", 1, 16384, 512);
+  if (length(cam.up) == 0.0f) c.fail("up", "must not be zero");
   const Vec3 forward = cam.lookAt - cam.position;
   if (length(forward) == 0.0f) c.fail("look_at", "equals the camera position");
   if (length(cross(forward, cam.up)) < 1e-6f * length(forward) * length(cam.up))

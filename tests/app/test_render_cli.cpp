@@ -91,8 +91,8 @@ TEST(RenderCli, UnknownKey) {
 TEST(RenderCli, LvoxelSpacingFarTooSmall) {
   expectCleanFailure(
       replaced(
-          "\"spp\": 2}",
-          "\"spp\": 2, \"mode\": \"pcb\"}, \"pointcloud\": {\"lvoxel_spacing\": 1e-6},\n"
+          "\"mode\": \"direct\", \"spp\": 2}",
+          "\"mode\": \"pcb\", \"spp\": 2}, \"pointcloud\": {\"lvoxel_spacing\": 1e-6},\n"
           "  \"media\": [{\"type\": \"homogeneous\", \"min\": [-1, -1, -1], \"max\": [1, 1, 1], "
           "\"sigma_s\": 1}]"),
       "pointcloud.lvoxel_spacing");
@@ -124,6 +124,24 @@ TEST(RenderCli, BadFlagValuesNameTheFlagBeforeAnyAssetIsLoaded) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
   }
+}
+
+// Usage errors are one line with the prefix, like input errors; a NaN time budget is an
+// error, not an endless render.
+TEST(RenderCli, UsageErrorsAreOneLine) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  for (const std::string& args :
+       {"render " + (dir / "scene.json").string() + " --spp abc -o " + (dir / "a.exr").string(),
+        std::string("bogus"),
+        "render " + (dir / "scene.json").string() + " --time-limit nan -o " +
+            (dir / "a.exr").string()}) {
+    const RunResult r = runLvox(args, dir);
+    EXPECT_NE(r.exitCode, 0) << args;
+    EXPECT_EQ(r.err.rfind("lvox: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_EQ(listDir(dir), std::vector<std::string>{"scene.json"});
 }
 
 TEST(RenderCli, MissingSceneFile) {

@@ -29,6 +29,13 @@ TEST(ImageMetrics, IdenticalImages) {
   EXPECT_TRUE(std::isinf(e.psnrDb));
 }
 
+TEST(ImageMetrics, ANonFiniteImageHasNoError) {
+  Image reference(2, 2, RGB(1.0f));
+  reference.pixels[3] = RGB(std::nanf(""));
+  EXPECT_THROW(compareImages(Image(2, 2, RGB(1.0f)), reference, "a.exr", "ref.exr"), InputError);
+  EXPECT_THROW(compareImages(reference, Image(2, 2, RGB(1.0f)), "a.exr", "ref.exr"), InputError);
+}
+
 TEST(ImageMetrics, SizeMismatchNamesTheFiles) {
   try {
     compareImages(Image(2, 2), Image(3, 2), "a.exr", "b.exr");

@@ -137,6 +137,31 @@ TEST(SceneLoader, ObjWithMtlColours) {
   EXPECT_FLOAT_EQ(lamp.emission.x, 5.0f);
 }
 
+TEST(SceneLoader, MtlEmissionBeyondTheSceneFilesBoundIsRefused) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "m.mtl", "newmtl sun\nKd 0 0 0\nKe 1e20 1e20 1e20\n");
+  test::writeFile(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl sun\nf 1 2 3\n");
+  test::writeFile(dir / "s.json", R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "shapes": [{"type": "obj", "file": "m.obj"}]})");
+  try {
+    loadScene((dir / "s.json").string());
+    FAIL() << "Ke 1e20 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("material 'sun': Ke outside"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Silently accepted before: a key given twice (the last one won) and a zero up vector.
+TEST(SceneLoader, DuplicateKeysAndAZeroUpVectorAreRefused) {
+  expectError(withField("\"vfov_deg\": 40", "\"vfov_deg\": 40, \"vfov_deg\": 60"),
+              {"camera.vfov_deg", "given twice"});
+  expectError(withField("\"camera\"", "\"render\": {\"spp\": 2}, \"render\": {}, \"camera\""),
+              {"render", "given twice"});
+  expectError(withField("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 0, 0], \"up\": [0, 0, 0]"),
+              {"camera.up", "must not be zero"});
+}
+
 TEST(SceneLoader, ObjBadIndexAndMissingFile) {
   const auto dir = test::tempDir();
   test::writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n");
