@@ -175,9 +175,12 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
   }
   if (on.homogeneous) {
     plan.method = kHomogeneousMethod;
-    // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate.
+    // Beyond T < 1e-7 (tau > 16.2) nothing visible is left to integrate; in a medium so
+    // thick that this depth is below float resolution at t0 (sigma_t 1e8 four units from
+    // the camera), one ulp.
     if (on.smallestExtinction > 0.0f)
-      t1 = plan.end = std::min(t1, t0 + kOpaqueDepth / on.smallestExtinction);
+      t1 = plan.end =
+          std::min(t1, std::max(t0 + kOpaqueDepth / on.smallestExtinction, std::nextafter(t0, t1)));
     // No two evaluations further apart than the scene's step (or a quarter beam) where the
     // map is densest: a panel may span that gap over Kronrod's widest node gap.
     const float cap = std::min({base_.step, base_.maxStep, beamCap}) / kKronrodLargestGap;

@@ -220,3 +220,25 @@ TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
 
 }  // namespace
 }  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// sigma_a = 1e9, inside the documented range: exponential steps of 1e-9 units five units from
+// the camera round to nothing in float, and the path used to spin on the box's boundary.
+// Every step now advances at least one ulp: the box is black, the environment around it 1.
+TEST(MonteCarloMedia, AnOpaqueHomogeneousMediumEndsAndIsBlack) {
+  const Scene scene = parseScene(R"({
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "vfov_deg": 40, "width": 8, "height": 8},
+    "render": {"mode": "mc", "spp": 4},
+    "lights": [{"type": "environment", "radiance": 1}, {"type": "point", "position": [0, 0, 0], "intensity": 1}],
+    "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [1, 1, 1], "sigma_a": 1e9, "sigma_s": 0}]})",
+                                 "/tmp/opaque.json");
+  Report report;
+  const Image image = renderScene(scene.job(), report);
+  EXPECT_NEAR(image.at(4, 4).x, 0.0f, 1e-6f);  // through the box's centre
+  EXPECT_NEAR(image.at(0, 0).x, 1.0f, 1e-6f);  // the corner sees the environment
+}
+
+}  // namespace
+}  // namespace lvox

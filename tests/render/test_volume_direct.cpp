@@ -138,3 +138,28 @@ TEST(VolumeDirect, StiffMediumStaysFiniteAndCountsStabilityEvents) {
 
 }  // namespace
 }  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// sigma_s = 1e8, inside the documented range: the depth where nothing is left visible
+// (16.2 / sigma_t) is below float resolution four units from the camera, and auto used to
+// plan a step of 0 ("volume_integrator: step: must be finite and > 0", a setting the user
+// never gave). Single scattering at the surface of a non-absorbing box under a uniform
+// environment of 1: half the sphere is open, so the in-scatter is 1/2.
+TEST(VolumeDirect, AnOpticallyHugeMediumRendersItsSurface) {
+  Scene scene = parseScene(R"({
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "vfov_deg": 1, "width": 1, "height": 1},
+    "render": {"mode": "direct", "spp": 64, "medium_light_samples": 64},
+    "lights": [{"type": "environment", "radiance": 1}],
+    "media": [{"type": "homogeneous", "min": [-1, -1, -1], "max": [1, 1, 1], "sigma_a": 0, "sigma_s": 1e8}]})",
+                           "/tmp/huge.json");
+  Report report;
+  const RGB pixel = renderScene(scene.job(), report).at(0, 0);
+  EXPECT_EQ(report.counts["invalid_samples"], 0u);
+  // 64 x 64 uniform sphere samples per pixel: about 1 % standard error.
+  EXPECT_NEAR(pixel.x, 0.5f, 0.04f);
+}
+
+}  // namespace
+}  // namespace lvox

@@ -21,13 +21,19 @@ struct MajorantSegment {
 // flights) and ratio tracking (transmittance): exponential steps at the segment's majorant;
 // `collision(t, majorant)` is called at each one and stops the walk by returning false.
 // Returns false when stopped.
+//
+// Every step moves t by at least one float ulp: with a majorant far above 1/ulp(t) (sigma
+// 1e9 five units from the camera) an exponential step would round to nothing, and a
+// point on a medium's boundary that the medium does not contain would repeat forever.
 template <class Collision>
 bool forEachTentativeCollision(const std::vector<MajorantSegment>& segments, Rng& rng,
                                Collision&& collision) {
   for (const MajorantSegment& s : segments) {
+    if (!(s.majorant > 0.0f) || !std::isfinite(s.majorant)) continue;
     float t = s.t0;
     while (true) {
-      t -= std::log(1.0f - rng.uniform()) / s.majorant;
+      const float next = t - std::log(1.0f - rng.uniform()) / s.majorant;
+      t = next > t ? next : std::nextafter(t, s.t1 + 1.0f);
       if (t >= s.t1) break;
       if (!collision(t, s.majorant)) return false;
     }

@@ -42,6 +42,14 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
         warnings.push_back(d.file + ": grid '" + d.grid + "' has no active voxels: empty medium");
         continue;
       }
+      // The bound of a homogeneous medium's coefficients: beyond it (up to the float
+      // overflow of 3e38 x 2) tracking and the solvers stop meaning anything.
+      const float peak = grid->maxValue;
+      if (!(static_cast<double>(peak) * d.densityScale <= 1e9))
+        throw InputError(d.file, d.field + ".density_scale",
+                         "density up to " + std::to_string(peak) + " x density_scale " +
+                             std::to_string(d.densityScale) +
+                             " exceeds sigma_t = 1e9 per unit, the bound of any medium");
       m.type = MediumType::Vdb;
       m.bounds = grid->worldBounds();
       m.density = grid;

@@ -161,6 +161,19 @@ TEST(Media, Vec3GridIsRejected) {
   EXPECT_EQ(buildError(vdbMedium(dir, plume)), "");
 }
 
+// A finite density that overflows sigma_t (3e38 x 2) or merely exceeds the bound of every
+// medium (1e9 per unit) is refused, naming the density scale; direct mode used to make
+// pixels of 9e37 of it and mc never ended.
+TEST(Media, DensityTimesScaleBeyondTheBoundIsRefused) {
+  const auto dir = test::tempDir();
+  writeGrid(dir / "huge.vdb", 4, 1.0, [](int, int, int) { return 3e38f; });
+  const std::string msg = buildError(vdbMedium(dir, "huge.vdb"));  // density_scale 2
+  EXPECT_NE(msg.find("media[0].density_scale"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("exceeds sigma_t = 1e9"), std::string::npos) << msg;
+  writeGrid(dir / "fine.vdb", 4, 1.0, [](int, int, int) { return 4e8f; });
+  EXPECT_EQ(buildError(vdbMedium(dir, "fine.vdb")), "");  // 8e8: within the bound
+}
+
 TEST(Media, NegativeVoxelsAreClampedAndNaNIsAnError) {
   const auto dir = test::tempDir();
   writeGrid(dir / "neg.vdb", 4, 1.0, [](int i, int, int) { return i == 0 ? -1.0f : 1.0f; });
