@@ -41,7 +41,7 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
                parseGatherVisibility);
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
-  s.targetSurfels = p.integer("target_surfels", 1, 1 << 28, s.targetSurfels);
+  s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
   s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);

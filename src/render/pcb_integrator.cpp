@@ -8,6 +8,7 @@
 #include "pointcloud/gather.h"
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
+#include "src/core/error.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/pcb_media.h"
 #include "src/render/surface_direct.h"
@@ -19,6 +20,21 @@ float surfelSpacing(const World& world, const PointCloudSettings& settings) {
   if (settings.surfelSpacing > 0.0f) return settings.surfelSpacing;
   return std::sqrt(static_cast<float>(world.mesh.area()) /
                    static_cast<float>(settings.targetSurfels));
+}
+
+// The surfels a spacing asks for, checked before any is sampled: a spacing far too small
+// for the surfaces is an input error, not hours of sampling or an allocation failure.
+// 1e7 surfels take about 3.5 GB with the interreflection's weights (docs/results.md: about
+// 350 bytes per surfel), four times Gibson's 2.5 M.
+constexpr double kMaxSurfels = 1e7;
+void checkSurfelBudget(const World& world, float spacing, const std::string& sceneFile) {
+  if (!(spacing > 0.0f)) return;
+  const double estimate = world.mesh.area() / (static_cast<double>(spacing) * spacing);
+  if (estimate > kMaxSurfels)
+    throw InputError(sceneFile, "pointcloud.surfel_spacing",
+                     std::to_string(spacing) + " asks for about " +
+                         std::to_string(static_cast<long long>(estimate)) + " surfels over " +
+                         std::to_string(world.mesh.area()) + " square units (at most 1e7)");
 }
 
 GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
@@ -119,6 +135,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                                 Report& report) {
   const uint64_t seed = ctx.settings.seed;
   const float spacing = surfelSpacing(ctx.world, settings);
+  checkSurfelBudget(ctx.world, spacing, sceneFile);
   PointBasedCache cache;
   cache.lvoxels = ctx.settings.mode == Mode::kPcb && !volume.empty();
   SurfelSet surfels;

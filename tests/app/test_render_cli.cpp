@@ -97,6 +97,16 @@ TEST(RenderCli, LvoxelSpacingFarTooSmall) {
           "\"sigma_s\": 1}]"),
       "pointcloud.lvoxel_spacing");
 }
+// 1e-6 used to loop, 1e-3 to grow past 7 GB, 1e-4 to end in std::bad_alloc naming nothing.
+TEST(RenderCli, SurfelSpacingFarTooSmall) {
+  for (const char* spacing : {"1e-6", "1e-3"})
+    expectCleanFailure(replaced("\"mode\": \"direct\", \"spp\": 2}",
+                                std::string("\"mode\": \"pcb\", \"spp\": 2}, \"pointcloud\": "
+                                            "{\"surfel_spacing\": ") +
+                                    spacing + "}"),
+                       "pointcloud.surfel_spacing");
+}
+
 TEST(RenderCli, MissingMesh) {
   expectCleanFailure(
       replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"),
