@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "src/core/sampling.h"
+
 namespace lvox {
 namespace {
 
@@ -81,7 +83,7 @@ RGB MajorantTracker::transmittance(const Ray& ray, Rng& rng, uint64_t& lookups) 
   for (const MajorantSegment& s : segs) {
     float t = s.t0;
     while (true) {
-      t -= std::log(1.0f - rng.uniform()) / s.majorant;
+      t += sampleExponential(rng.uniform(), s.majorant);
       if (t >= s.t1) break;
       const Vec3 x = ray.at(t);
       RGB sigmaT(0.0f);
