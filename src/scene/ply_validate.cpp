@@ -269,9 +269,10 @@ class Validator {
             continue;
           }
           const double n = readBinary(p.count, e);
-          checkListLength(n, e);
           double lo, hi;
-          if (indexBounds(e, p, &lo, &hi)) {
+          const bool indices = indexBounds(e, p, &lo, &hi);
+          checkListLength(n, e, indices, i);
+          if (indices) {
             for (double k = 0; k < n; ++k) checkIndex(readBinary(p.item, e), lo, hi, e, i);
           } else {
             const double bytes = n * p.item.size;
@@ -288,8 +289,13 @@ class Validator {
     pos_ += n;
   }
 
-  void checkListLength(double n, const Element& e) const {
+  // Assimp's triangulation aborts on a face with no vertices; one or two make no
+  // triangle either, so index lists need at least three.
+  void checkListLength(double n, const Element& e, bool indices, uint64_t instance) const {
     if (n < 0.0) fail("a list of element '" + shortText(e.name) + "' has a negative length");
+    if (indices && n < 3.0)
+      fail(shortText(e.name) + " " + std::to_string(instance) + " has " +
+           std::to_string(static_cast<int>(n)) + " vertices; at least 3 are needed");
   }
 
   void checkIndex(double v, double lo, double hi, const Element& e, uint64_t instance) const {
@@ -338,9 +344,9 @@ class Validator {
             continue;
           }
           const double n = parseAscii(words.next(), p.count);
-          checkListLength(n, e);
           double lo = 0.0, hi = 0.0;
           const bool indices = indexBounds(e, p, &lo, &hi);
+          checkListLength(n, e, indices, i);
           for (double k = 0; k < n; ++k) {
             const double v = parseAscii(words.next(), p.item);
             if (indices) checkIndex(v, lo, hi, e, i);

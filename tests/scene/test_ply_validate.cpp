@@ -106,6 +106,19 @@ TEST(PlyValidate, NegativeAndOutOfRangeIndicesAreRefused) {
   }
 }
 
+TEST(PlyValidate, FacesWithFewerThanThreeVerticesAreRefused) {
+  // A face with no vertices made assimp's triangulation abort (found by fuzzing).
+  for (bool big : {false, true}) {
+    EXPECT_NE(load(binaryPly(big, {{0, 1, 2}, {}})).error.find("face 1 has 0 vertices"),
+              std::string::npos);
+    EXPECT_NE(load(binaryPly(big, {{0, 1}, {0, 1, 2}})).error.find("face 0 has 2 vertices"),
+              std::string::npos);
+  }
+  std::string ascii = kAscii;
+  ascii.replace(ascii.find("3 0 2 3"), 7, "0");
+  EXPECT_NE(load(ascii).error.find("face 1 has 0 vertices"), std::string::npos);
+}
+
 TEST(PlyValidate, HugeCountsAreRefusedFromTheHeader) {
   // 200 bytes claiming 10^9 vertices took assimp 27 s and 11.7 GB before it gave up.
   std::string bytes = binaryPly(false);
