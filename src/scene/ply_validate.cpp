@@ -123,11 +123,17 @@ class Validator {
     if (!nextLine(line) || line != "ply") fail("missing 'ply' magic line");
     bool format = false;
     while (nextLine(line)) {
+      // Assimp splits lines at '\r' too; a header that both parsers read alike has no
+      // control characters inside its lines.
+      for (char c : line)
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\t')
+          fail("a control character in header line " + std::to_string(lineNumber_));
       Words words(line);
       const std::string_view keyword = words.next();
       if (keyword == "end_header") {
         if (!format) fail("no format line");
         if (!hasVertexElement_) fail("no vertex element");
+        for (const Element& e : elements_) checkMeshElement(e);
         bodyOffset_ = std::min(pos_, bytes_.size());
         return;
       }
@@ -192,6 +198,22 @@ class Validator {
     if (indexBounds(elements_.back(), p) && !p.item.integral)
       fail("vertex indices must have an integer type" + where);
     elements_.back().properties.push_back(std::move(p));
+  }
+
+  // Assimp reads faces through their one index list and has crashed on faces without one
+  // (found by fuzzing): faces and strips have exactly one list, the indices, and vertices
+  // none. Other elements are skipped by assimp and only need to be well-formed.
+  void checkMeshElement(const Element& e) const {
+    const bool faces = e.name == "face" || e.name == "tristrips";
+    if (!faces && e.name != "vertex") return;
+    int lists = 0, indexLists = 0;
+    for (const Property& p : e.properties) {
+      lists += p.list;
+      indexLists += indexBounds(e, p);
+    }
+    if (!faces && lists > 0) fail("the vertex element has a list property");
+    if (faces && e.count > 0 && (indexLists != 1 || lists != 1))
+      fail("element '" + e.name + "' needs exactly one list property, vertex_indices");
   }
 
   // Range [lo, hi] of the values of an index list; false for any other property. Strips

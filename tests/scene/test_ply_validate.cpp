@@ -160,6 +160,14 @@ TEST(PlyValidate, MalformedHeadersAndValues) {
   std::string extra = kAscii;
   extra.replace(extra.find("2 0 0\n"), 6, "2 0 0 7\n");
   EXPECT_NE(error(extra).find("extra values on line 11"), std::string::npos) << error(extra);
+  // Faces need their index list, and only that list (a face list under another name
+  // crashed assimp); a control character inside a header line is refused.
+  std::string renamed = kAscii;
+  renamed.replace(renamed.find("vertex_indices"), 14, "veply");
+  EXPECT_NE(error(renamed).find("exactly one list property"), std::string::npos);
+  std::string carriage = kAscii;
+  carriage.replace(carriage.find("end_header"), 0, "\r\r");
+  EXPECT_NE(error(carriage).find("control character in header line 9"), std::string::npos);
   // Elements with instances but no properties could not be bounded by the file's size.
   EXPECT_NE(error("ply\nformat binary_little_endian 1.0\nelement vertex 0\nelement junk "
                   "99999999999\nend_header\n")
