@@ -11,6 +11,7 @@
 
 #include "src/core/error.h"
 #include "volume/media/dense_grid.h"
+#include "volume/media/vdb_precheck.h"
 
 namespace lvox {
 namespace {
@@ -51,6 +52,8 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw InputError(file, field, std::string("cannot open: ") + std::strerror(errno));
   }
+  // OpenVDB allocates whatever the file's lengths say: check them against its size first.
+  precheckVdbFile(file, field);
   initOpenVdb();
   openvdb::GridPtrVec grids;
   try {
