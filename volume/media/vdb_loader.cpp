@@ -92,7 +92,15 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     throw InputError(file, field, "grid '" + gridName + "' has a non-finite background value");
 
   DenseGrid dense;
-  const Transform gridMap = fromVdbMatrix(grid->transform().baseMap()->getAffineMap()->getMat4());
+  Transform gridMap;
+  try {
+    // OpenVDB throws ArithmeticError for a singular map stored in the file (found by
+    // fuzzing): an input error like any other.
+    gridMap = fromVdbMatrix(grid->transform().baseMap()->getAffineMap()->getMat4());
+  } catch (const std::exception& e) {
+    throw InputError(file, field, "grid '" + gridName + "' has an unusable transform: " +
+                                      clamp(e.what()));
+  }
   dense.indexToWorld = sceneTransform * gridMap;
   const float det = dense.indexToWorld.determinant3();
   if (!std::isfinite(det) || std::abs(det) < 1e-30f)

@@ -45,7 +45,10 @@ class Walker {
   void run() {
     if (read<int64_t>() != kMagic) fail("no VDB magic number");
     const uint32_t version = read<uint32_t>();
-    if (version < kVersionFloatFrustumBbox) return;  // OpenVDB refuses it itself
+    // OpenVDB 10 still tries older layouts (and a corrupt version number); the layout
+    // walked here is that of format 221 and later, so older files are refused.
+    if (version < kVersionFloatFrustumBbox)
+      fail("file format version " + std::to_string(version) + " is older than 221");
     skip(8);                                          // library version
     const bool hasOffsets = read<char>() != 0;
     if (version >= kVersionSelectiveCompression && version < kVersionNodeMaskCompression) skip(1);

@@ -53,6 +53,16 @@ TEST(VdbPrecheck, HugeStringLengthIsRefused) {
   EXPECT_NE(msg.find("of 4294967295 bytes in"), std::string::npos) << msg;
 }
 
+// OpenVDB 10 goes on reading a file whose format version is corrupt (0 here): refused.
+TEST(VdbPrecheck, OldOrCorruptVersionIsRefused) {
+  std::string bytes = readAll(fs::path(LVOX_SOURCE_DIR) / "tests/fuzz/seeds/vdb/density_small.vdb");
+  const uint32_t zero = 0;
+  std::memcpy(&bytes[8], &zero, 4);
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "old.vdb", bytes);
+  EXPECT_NE(error(dir / "old.vdb").find("version 0 is older than 221"), std::string::npos);
+}
+
 TEST(VdbPrecheck, EveryTruncationIsRefusedOrLeftToOpenVdb) {
   // Cuts inside the part walked here are refused; later cuts pass (OpenVDB then fails on
   // the tree data, as Media.TruncatedAndCorruptRealVdb checks).
