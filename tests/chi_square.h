@@ -67,9 +67,7 @@ struct ChiSquareResult {
   int dof = 0;
   double pValue = 0.0;
   std::string failure;  // non-empty: samples where the pdf is zero, or nothing to test
-  bool accepted(double alpha = kChiSquareAlpha) const {
-    return failure.empty() && pValue >= alpha;
-  }
+  bool accepted(double alpha = kChiSquareAlpha) const { return failure.empty() && pValue >= alpha; }
   std::string describe() const {
     std::ostringstream s;
     s << "chi2 = " << statistic << ", dof = " << dof << ", p = " << pValue;
@@ -118,7 +116,8 @@ inline ChiSquareResult chiSquareTest(const std::vector<double>& observed,
   }
   r.pValue = chiSquarePValue(r.statistic, r.dof);
   // LVOX_CHI2_PRINT=1 prints every statistic (how docs/hardening.md's table was made).
-  if (std::getenv("LVOX_CHI2_PRINT")) std::fprintf(stderr, "chi-square: %s\n", r.describe().c_str());
+  if (std::getenv("LVOX_CHI2_PRINT"))
+    std::fprintf(stderr, "chi-square: %s\n", r.describe().c_str());
   return r;
 }
 
@@ -160,7 +159,8 @@ struct SphereHistogram {
   std::vector<double> counts;
 
   SphereHistogram(int cosBins_, int phiBins_)
-      : cosBins(cosBins_), phiBins(phiBins_),
+      : cosBins(cosBins_),
+        phiBins(phiBins_),
         counts(static_cast<size_t>(cosBins_) * static_cast<size_t>(phiBins_), 0.0) {}
 
   void add(double x, double y, double z) {
@@ -168,7 +168,8 @@ struct SphereHistogram {
     double phi = std::atan2(y, x);
     if (phi < 0.0) phi += 2.0 * std::numbers::pi;
     const int i = std::clamp(static_cast<int>((cosTheta + 1.0) * 0.5 * cosBins), 0, cosBins - 1);
-    const int j = std::clamp(static_cast<int>(phi / (2.0 * std::numbers::pi) * phiBins), 0, phiBins - 1);
+    const int j =
+        std::clamp(static_cast<int>(phi / (2.0 * std::numbers::pi) * phiBins), 0, phiBins - 1);
     counts[static_cast<size_t>(i) * static_cast<size_t>(phiBins) + static_cast<size_t>(j)] += 1.0;
   }
 
@@ -206,7 +207,8 @@ struct LineHistogram {
       counts[0] += 1.0;  // below the range: lands in a cell whose check will fail
       return;
     }
-    const int i = t >= hi ? bins : std::min(bins - 1, static_cast<int>((t - lo) / (hi - lo) * bins));
+    const int i =
+        t >= hi ? bins : std::min(bins - 1, static_cast<int>((t - lo) / (hi - lo) * bins));
     counts[static_cast<size_t>(i)] += 1.0;
   }
 

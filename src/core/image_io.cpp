@@ -16,8 +16,8 @@
 #include <fstream>
 
 #include "src/core/atomic_file.h"
-#include "src/core/exr_precheck.h"
 #include "src/core/error.h"
+#include "src/core/exr_precheck.h"
 
 namespace lvox {
 namespace {

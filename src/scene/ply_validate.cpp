@@ -192,7 +192,8 @@ class Validator {
         fail("a list length must have an integer type" + where);
       type = words.next();
     }
-    if (!parseScalarType(type, p.item)) fail("unknown property type '" + shortText(type) + "'" + where);
+    if (!parseScalarType(type, p.item))
+      fail("unknown property type '" + shortText(type) + "'" + where);
     p.name = std::string(words.next());
     if (p.name.empty() || !words.empty()) fail("bad property line" + where.substr(3));
     if (indexBounds(elements_.back(), p) && !p.item.integral)

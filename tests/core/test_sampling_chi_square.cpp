@@ -32,7 +32,8 @@ TEST(ChiSquare, PValuesMatchTabulatedQuantiles) {
   EXPECT_NEAR(test::chiSquarePValue(135.807, 100), 0.01, 2e-5);
   // Two degrees of freedom: Q(1, x/2) = exp(-x/2) exactly.
   for (double x : {0.1, 1.0, 7.0, 40.0})
-    EXPECT_NEAR(test::chiSquarePValue(x, 2), std::exp(-0.5 * x), 1e-12 * std::exp(-0.5 * x) + 1e-15);
+    EXPECT_NEAR(test::chiSquarePValue(x, 2), std::exp(-0.5 * x),
+                1e-12 * std::exp(-0.5 * x) + 1e-15);
 }
 
 TEST(ChiSquare, PoolsSparseCellsAndRejectsSamplesOutsideTheSupport) {
@@ -62,7 +63,9 @@ TEST(ChiSquare, RejectsWrongPdfs) {
   EXPECT_LT(gross.pValue, 1e-100);
   // (1 + 0.04 P2(z)) / (4 pi) integrates to 1: a 4 % excess at the poles, 2 % deficit at
   // the equator.
-  const auto subtle = [](double z, double) { return (1.0 + 0.02 * (3.0 * z * z - 1.0)) / (4.0 * kPi); };
+  const auto subtle = [](double z, double) {
+    return (1.0 + 0.02 * (3.0 * z * z - 1.0)) / (4.0 * kPi);
+  };
   const auto slight = chiSquareTest(sphere.counts, sphere.expected(subtle, kSamples));
   EXPECT_FALSE(slight.accepted()) << slight.describe();
   // The right pdf passes on the same samples.

@@ -47,9 +47,8 @@ std::string binaryPlyBody(bool bigEndian) {
 void plySeeds(const fs::path& dir) {
   write(dir / "quad_ascii.ply", std::string("ply\nformat ascii 1.0\ncomment lvox seed\n") +
                                     kPlyHeader + "0 0 0\n2 0 0\n2 2 0\n0 2 0\n3 0 1 2\n3 0 2 3\n");
-  write(dir / "quad_polygon_ascii.ply",
-        std::string("ply\nformat ascii 1.0\n") + kPlyHeader +
-            "0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n3 0 2 3\n");
+  write(dir / "quad_polygon_ascii.ply", std::string("ply\nformat ascii 1.0\n") + kPlyHeader +
+                                            "0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n3 0 2 3\n");
   write(dir / "quad_binary_le.ply",
         std::string("ply\nformat binary_little_endian 1.0\n") + kPlyHeader + binaryPlyBody(false));
   write(dir / "quad_binary_be.ply",
@@ -58,8 +57,7 @@ void plySeeds(const fs::path& dir) {
 
 void objSeeds(const fs::path& dir) {
   // OBJ, a NUL, then the MTL (harnesses.cpp writes the MTL as m.mtl beside the OBJ).
-  const std::string mtl =
-      "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\n";
+  const std::string mtl = "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\n";
   write(dir / "quad_mtl.obj", std::string("mtllib m.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n"
                                           "vn 0 0 1\nvt 0 0\no quad\nusemtl white\n"
                                           "f 1/1/1 2/1/1 3/1/1 4/1/1\nusemtl lamp\nf -1 -2 -3\n") +

@@ -49,8 +49,8 @@ Scene emitterScene() {
   const Vec3 a(-1, -1, 1), b(1, -1, 1), c(1, 1, 1), d(-1, 1, 1);
   addTriangle(scene.mesh, a, b, c, 0);
   addTriangle(scene.mesh, a, c, d, 0);
-  addTriangle(scene.mesh, Vec3(1.5f, -0.5f, -0.3f), Vec3(2.0f, 0.8f, 0.4f),
-              Vec3(1.2f, 0.9f, -0.6f), 1);
+  addTriangle(scene.mesh, Vec3(1.5f, -0.5f, -0.3f), Vec3(2.0f, 0.8f, 0.4f), Vec3(1.2f, 0.9f, -0.6f),
+              1);
   return scene;
 }
 

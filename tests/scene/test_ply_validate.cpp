@@ -17,8 +17,8 @@ namespace {
 const std::string kHeader =
     "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
     "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
-const std::string kAscii = "ply\nformat ascii 1.0\n" + kHeader +
-                           "0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n3 0 2 3\n";
+const std::string kAscii =
+    "ply\nformat ascii 1.0\n" + kHeader + "0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n3 0 2 3\n";
 
 template <class T>
 void put(std::string& out, T value, bool bigEndian) {
@@ -29,8 +29,8 @@ void put(std::string& out, T value, bool bigEndian) {
 }
 
 // The quad of kAscii in binary, with the face indices given.
-std::string binaryPly(bool bigEndian, std::vector<std::vector<int>> faces = {{0, 1, 2, 3},
-                                                                              {0, 2, 3}}) {
+std::string binaryPly(bool bigEndian,
+                      std::vector<std::vector<int>> faces = {{0, 1, 2, 3}, {0, 2, 3}}) {
   std::string s = std::string("ply\nformat ") +
                   (bigEndian ? "binary_big_endian" : "binary_little_endian") + " 1.0\n" + kHeader;
   for (float v : {0.f, 0.f, 0.f, 2.f, 0.f, 0.f, 2.f, 2.f, 0.f, 0.f, 2.f, 0.f}) put(s, v, bigEndian);
@@ -75,8 +75,9 @@ TEST(PlyValidate, EveryTruncationOfAnAsciiFileIsAnInputError) {
   // A cut right after the first vertex value made assimp's triangulation abort; now the
   // header's counts are refused against the 1 byte left.
   const size_t body = kAscii.find("end_header\n") + 11;
-  EXPECT_NE(load(kAscii.substr(0, body + 1)).error.find("declares 4 instances, more than the 1 bytes"),
-            std::string::npos);
+  EXPECT_NE(
+      load(kAscii.substr(0, body + 1)).error.find("declares 4 instances, more than the 1 bytes"),
+      std::string::npos);
   // Cuts in the last line, and before it.
   EXPECT_NE(load(kAscii.substr(0, kAscii.size() - 3)).error.find("too few values on line 15"),
             std::string::npos);
@@ -126,9 +127,10 @@ TEST(PlyValidate, HugeCountsAreRefusedFromTheHeader) {
   const Loaded got = load(bytes);
   EXPECT_NE(got.error.find("declares 1000000000 instances"), std::string::npos) << got.error;
   // Lists whose length runs past the end of the file.
-  std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
-                     "property float y\nproperty float z\nelement face 1\n"
-                     "property list uint int vertex_indices\nend_header\n";
+  std::string list =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uint int vertex_indices\nend_header\n";
   for (int i = 0; i < 3; ++i) put(list, 0.0f, false);
   put(list, 0xFFFFFFFFu, false);
   EXPECT_NE(load(list).error.find("truncated"), std::string::npos);

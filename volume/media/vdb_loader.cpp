@@ -98,8 +98,8 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     // fuzzing): an input error like any other.
     gridMap = fromVdbMatrix(grid->transform().baseMap()->getAffineMap()->getMat4());
   } catch (const std::exception& e) {
-    throw InputError(file, field, "grid '" + gridName + "' has an unusable transform: " +
-                                      clamp(e.what()));
+    throw InputError(file, field,
+                     "grid '" + gridName + "' has an unusable transform: " + clamp(e.what()));
   }
   dense.indexToWorld = sceneTransform * gridMap;
   const float det = dense.indexToWorld.determinant3();

@@ -1,7 +1,7 @@
 #include "volume/media/vdb_precheck.h"
 
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <string_view>
@@ -23,11 +23,10 @@ int fixedMetadataSize(std::string_view type) {
     std::string_view name;
     int size;
   };
-  static constexpr Entry kSizes[] = {
-      {"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},  {"double", 8},
-      {"vec2i", 8},  {"vec2s", 8},  {"vec2d", 16}, {"vec3i", 12}, {"vec3s", 12},
-      {"vec3d", 24}, {"vec4i", 16}, {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64},
-      {"mat4d", 128}};
+  static constexpr Entry kSizes[] = {{"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},
+                                     {"double", 8}, {"vec2i", 8},  {"vec2s", 8},  {"vec2d", 16},
+                                     {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+                                     {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
   for (const Entry& e : kSizes)
     if (type == e.name) return e.size;
   return -1;
@@ -49,7 +48,7 @@ class Walker {
     // walked here is that of format 221 and later, so older files are refused.
     if (version < kVersionFloatFrustumBbox)
       fail("file format version " + std::to_string(version) + " is older than 221");
-    skip(8);                                          // library version
+    skip(8);  // library version
     const bool hasOffsets = read<char>() != 0;
     if (version >= kVersionSelectiveCompression && version < kVersionNodeMaskCompression) skip(1);
     skip(36);  // UUID

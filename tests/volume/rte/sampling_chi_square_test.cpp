@@ -38,14 +38,16 @@ TEST(ChangeOfVariableChiSquare, DistanceIsTruncatedExponential) {
   const double t0 = 0.5, sigma = 1.7, b = 3.0;
   const auto map = VariableChange<double>::make(Sampling::kDistance, t0, sigma, 0.0, 1.0);
   ASSERT_EQ(map.kind, Sampling::kDistance);
-  checkMap(map, t0, b, [&](double t) { return std::exp(-sigma * (t - t0)); }, 30);
+  checkMap(
+      map, t0, b, [&](double t) { return std::exp(-sigma * (t - t0)); }, 30);
 }
 
 TEST(ChangeOfVariableChiSquare, EquiangularIsInverseSquare) {
   const double delta = 1.2, h = 0.15;
   const auto map = VariableChange<double>::make(Sampling::kEquiangular, 0.0, 1.0, delta, h);
   ASSERT_EQ(map.kind, Sampling::kEquiangular);
-  checkMap(map, 0.0, 4.0, [&](double t) { return 1.0 / (h * h + (t - delta) * (t - delta)); }, 31);
+  checkMap(
+      map, 0.0, 4.0, [&](double t) { return 1.0 / (h * h + (t - delta) * (t - delta)); }, 31);
 }
 
 }  // namespace
