@@ -20,7 +20,7 @@ inline ExrSize checkedExrSize(const std::string& path, Imf::InputFile& in) {
   const Imath::Box2i dw = in.header().dataWindow();
   const long long w = static_cast<long long>(dw.max.x) - dw.min.x + 1;
   const long long h = static_cast<long long>(dw.max.y) - dw.min.y + 1;
-  if (w <= 0 || h <= 0 || w * h > (1ll << 30))
+  if (w <= 0 || h <= 0 || w * h > (1ll << 30) || w > (1ll << 24))
     throw InputError(path, "", "the EXR data window has an unusable size");
   return {static_cast<int>(w), static_cast<int>(h), dw};
 }

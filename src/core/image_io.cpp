@@ -18,6 +18,7 @@
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
 #include "src/core/exr_input.h"
+#include "src/core/exr_precheck.h"
 
 namespace lvox {
 namespace {
@@ -102,34 +103,48 @@ Image readExr(const std::string& path, ImageMetadata* metadata) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw InputError(path, "", std::string("cannot open: ") + std::strerror(errno));
   }
+  // OpenEXR allocates what the header's sizes say: check them against the file first.
+  precheckExrFile(path);
   try {
     Imf::InputFile in(path.c_str());
     const ExrSize size = checkedExrSize(path, in);
     const Imath::Box2i& dw = size.window;
-    Image image(size.width, size.height);
+    const long long w = size.width, h = size.height;
     const Imf::ChannelList& list = in.header().channels();
     const bool rgb = list.findChannel("R") && list.findChannel("G") && list.findChannel("B");
     const bool grey = list.findChannel("Y") != nullptr;
     if (!rgb && !grey) throw InputError(path, "", "the EXR has neither R, G, B nor Y channels");
+    Image image;
+    image.width = static_cast<int>(w);
+    image.height = static_cast<int>(h);
+    // Rows are decoded a strip at a time and the image grows with what was decoded, so a
+    // small corrupt file that declares a huge data window fails on its first strip instead
+    // of first allocating gigabytes (found by fuzzing).
+    image.pixels.reserve(static_cast<size_t>(std::min(w * h, 1ll << 22)));
+    const long long stripRows = std::clamp((1ll << 20) / w, 1ll, h);
     std::vector<float> planes[3];
-    Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
-    const size_t n = static_cast<size_t>(size.width) * static_cast<size_t>(size.height);
-    const size_t xStride = sizeof(float), yStride = sizeof(float) * static_cast<size_t>(size.width);
-    for (int c = 0; c < 3; ++c) {
-      planes[c].assign(n, 0.0f);
-      // Offset the base so that pixel (dw.min.x, dw.min.y) lands at index 0.
-      char* base = reinterpret_cast<char*>(planes[c].data()) -
-                   static_cast<ptrdiff_t>(dw.min.x) * static_cast<ptrdiff_t>(xStride) -
-                   static_cast<ptrdiff_t>(dw.min.y) * static_cast<ptrdiff_t>(yStride);
-      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
-      if (!rgb) break;
+    const size_t xStride = sizeof(float), yStride = sizeof(float) * static_cast<size_t>(w);
+    for (long long y0 = 0; y0 < h; y0 += stripRows) {
+      const long long rows = std::min(stripRows, h - y0);
+      const size_t n = static_cast<size_t>(w * rows);
+      const long long firstRow = dw.min.y + y0;
+      Imf::FrameBuffer fb;
+      for (int c = 0; c < 3; ++c) {
+        planes[c].assign(n, 0.0f);
+        // Offset the base so that pixel (dw.min.x, firstRow) lands at index 0.
+        char* base = reinterpret_cast<char*>(planes[c].data()) -
+                     static_cast<ptrdiff_t>(dw.min.x) * static_cast<ptrdiff_t>(xStride) -
+                     static_cast<ptrdiff_t>(firstRow) * static_cast<ptrdiff_t>(yStride);
+        fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
+        if (!rgb) break;
+      }
+      in.setFrameBuffer(fb);
+      in.readPixels(static_cast<int>(firstRow), static_cast<int>(firstRow + rows - 1));
+      for (size_t i = 0; i < n; ++i)
+        image.pixels.push_back(rgb ? RGB(planes[0][i], planes[1][i], planes[2][i])
+                                   : RGB(planes[0][i], planes[0][i], planes[0][i]));
     }
-    in.setFrameBuffer(fb);
-    in.readPixels(dw.min.y, dw.max.y);
-    for (size_t i = 0; i < n; ++i)
-      image.pixels[i] = rgb ? RGB(planes[0][i], planes[1][i], planes[2][i])
-                            : RGB(planes[0][i], planes[0][i], planes[0][i]);
     if (metadata) {
       for (auto it = in.header().begin(); it != in.header().end(); ++it)
         if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))

@@ -27,4 +27,24 @@ inline void uniformTriangle(float u1, float u2, float& b1, float& b2) {
   b2 = u2 * su;
 }
 
+// Free-flight distance in a medium of extinction sigma: pdf sigma exp(-sigma t) on
+// [0, inf). 1 - u lies in (0, 1], so the distance is finite.
+inline float sampleExponential(float u, float sigma) { return -std::log(1.0f - u) / sigma; }
+
+// Equiangular distance sampling on [a, b] of a ray (Kulla & Fajardo 2012) for a point at
+// distance h from the ray whose foot lies at t = delta: pdf proportional to
+// 1 / (h^2 + (t - delta)^2), the falloff of a point light's contribution along the ray.
+struct EquiangularSampler {
+  float delta, h, thetaA, thetaB;
+  EquiangularSampler(float delta_, float h_, float a, float b)
+      : delta(delta_),
+        h(h_),
+        thetaA(std::atan((a - delta_) / h_)),
+        thetaB(std::atan((b - delta_) / h_)) {}
+  // False for an empty (or NaN) angle range: nothing to sample.
+  bool valid() const { return thetaB > thetaA; }
+  float sample(float u) const { return delta + h * std::tan(thetaA + u * (thetaB - thetaA)); }
+  float pdf(float t) const { return h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta))); }
+};
+
 }  // namespace lvox

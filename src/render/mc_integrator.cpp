@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "src/core/sampling.h"
+
 namespace lvox {
 namespace {
 
@@ -81,10 +83,10 @@ RGB equiangularInScatter(const RenderContext& ctx, const MajorantTracker& tracke
     const Vec3 toLight = light.position - ray.origin;
     const float delta = dot(toLight, ray.dir);
     const float h = std::max(1e-4f, length(toLight - ray.dir * delta));
-    const float thetaA = std::atan((a - delta) / h), thetaB = std::atan((b - delta) / h);
-    if (!(thetaB > thetaA)) continue;
-    const float t = delta + h * std::tan(thetaA + rng.uniform() * (thetaB - thetaA));
-    const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+    const EquiangularSampler equiangular(delta, h, a, b);
+    if (!equiangular.valid()) continue;
+    const float t = equiangular.sample(rng.uniform());
+    const float pdf = equiangular.pdf(t);
     const Vec3 x = ray.at(t);
     const LightSample s = ctx.lights.sampleDelta(light, x);
     if (isBlack(s.radiance) || !(pdf > 0.0f)) continue;

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "src/core/error.h"
+#include "src/world/ply_validate.h"
 
 namespace lvox {
 namespace {
@@ -31,46 +32,6 @@ uint32_t materialIndex(World& world, const std::string& name, const RGB& albedo,
 }
 
 float clampAlbedo(float v) { return std::clamp(v, 0.0f, 1.0f); }
-
-// Assimp's PLY reader can loop forever on a malformed header, so the header is checked
-// here first: the magic line, a known format, and only known header keywords before
-// end_header.
-void checkPlyHeader(const std::string& path, const std::string& field) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  auto bad = [&](const std::string& why) {
-    throw InputError(path, field, "malformed PLY: " + why);
-  };
-  if (!std::getline(in, line) || line.substr(0, 3) != "ply") bad("missing 'ply' magic line");
-  bool format = false, vertices = false;
-  for (int n = 2; std::getline(in, line); ++n) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header") {
-      if (!format) bad("no format line");
-      if (!vertices) bad("no vertex element");
-      return;
-    }
-    if (keyword == "format") {
-      std::string kind;
-      words >> kind;
-      if (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian")
-        bad("unknown format '" + kind + "' on line " + std::to_string(n));
-      format = true;
-    } else if (keyword == "element") {
-      std::string name;
-      long long count = -1;
-      words >> name >> count;
-      if (!words || count < 0) bad("bad element line " + std::to_string(n));
-      if (name == "vertex") vertices = true;
-    } else if (keyword != "property" && keyword != "comment" && keyword != "obj_info") {
-      bad("unexpected header line " + std::to_string(n) + ": '" + line.substr(0, 40) + "'");
-    }
-  }
-  bad("no end_header");
-}
 
 }  // namespace
 
@@ -171,7 +132,8 @@ std::vector<std::string> objMaterialLibraries(const std::string& path) {
 MeshLoadStats loadPly(const std::string& path, const std::string& field, const Transform& xf,
                       uint32_t material, World& world) {
   requireReadable(path, field);
-  checkPlyHeader(path, field);
+  // Assimp trusts the header's counts and the face indices: check the whole file first.
+  validatePly(path, field);
   Assimp::Importer importer;
   const aiScene* ai = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_FindInvalidData);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "src/core/sampling.h"
+
 namespace lvox {
 namespace {
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "src/core/rng.h"
+#include "src/core/sampling.h"
 #include "volume/media/media_set.h"
 
 namespace lvox {
@@ -32,7 +33,7 @@ bool forEachTentativeCollision(const std::vector<MajorantSegment>& segments, Rng
     if (!(s.majorant > 0.0f) || !std::isfinite(s.majorant)) continue;
     float t = s.t0;
     while (true) {
-      const float next = t - std::log(1.0f - rng.uniform()) / s.majorant;
+      const float next = t + sampleExponential(rng.uniform(), s.majorant);
       t = next > t ? next : std::nextafter(t, s.t1 + 1.0f);
       if (t >= s.t1) break;
       if (!collision(t, s.majorant)) return false;

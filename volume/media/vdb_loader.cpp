@@ -11,6 +11,7 @@
 
 #include "src/core/error.h"
 #include "volume/media/dense_grid.h"
+#include "volume/media/vdb_precheck.h"
 
 namespace lvox {
 namespace {
@@ -51,6 +52,8 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw InputError(file, field, std::string("cannot open: ") + std::strerror(errno));
   }
+  // OpenVDB allocates whatever the file's lengths say: check them against its size first.
+  precheckVdbFile(file, field);
   initOpenVdb();
   openvdb::GridPtrVec grids;
   try {
@@ -89,7 +92,15 @@ DenseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     throw InputError(file, field, "grid '" + gridName + "' has a non-finite background value");
 
   DenseGrid dense;
-  const Transform gridMap = fromVdbMatrix(grid->transform().baseMap()->getAffineMap()->getMat4());
+  Transform gridMap;
+  try {
+    // OpenVDB throws ArithmeticError for a singular map stored in the file (found by
+    // fuzzing): an input error like any other.
+    gridMap = fromVdbMatrix(grid->transform().baseMap()->getAffineMap()->getMat4());
+  } catch (const std::exception& e) {
+    throw InputError(file, field,
+                     "grid '" + gridName + "' has an unusable transform: " + clamp(e.what()));
+  }
   dense.indexToWorld = sceneTransform * gridMap;
   const float det = dense.indexToWorld.determinant3();
   if (!std::isfinite(det) || std::abs(det) < 1e-30f)
