@@ -1,6 +1,8 @@
 // `lvox render SCENE.json -o OUT.exr [...]`: flags override the scene file.
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -58,6 +60,40 @@ void stageConvergenceCsv(OutputSet& set, const std::string& path,
     if (!out) throw std::runtime_error("cannot write the CSV");
   });
 }
+
+// Ctrl-C during a Monte Carlo render: the first stops it after the pass under way (its
+// finished samples are written as a valid, mergeable image); a second quits at once,
+// removing any output being staged.
+std::atomic<bool> g_stopRequested{false};
+
+extern "C" void onInterrupt(int sig) {
+  if (!g_stopRequested.exchange(true)) return;
+  removeStagedTemporaries();
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+// Installs onInterrupt for SIGINT while alive (when enabled), restoring the previous action.
+class InterruptGuard {
+ public:
+  explicit InterruptGuard(bool enabled) : enabled_(enabled) {
+    if (!enabled_) return;
+    g_stopRequested = false;
+    struct sigaction action {};
+    action.sa_handler = onInterrupt;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, &previous_);
+  }
+  ~InterruptGuard() {
+    if (enabled_) ::sigaction(SIGINT, &previous_, nullptr);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  bool enabled_;
+  struct sigaction previous_ {};
+};
 
 // The flags that set a scene field, as overrides the scene loader checks like the field.
 std::vector<SettingOverride> overrides(const RenderFlags& f) {
@@ -158,7 +194,14 @@ int runRender(const RenderFlags& flags) {
                        "has a different size than the scene's camera");
     plan.reference = &reference;
   }
+  // Monte Carlo renders are long: the first Ctrl-C keeps the finished samples.
+  const InterruptGuard interrupts(scene.render.mode == Mode::kMc);
+  if (scene.render.mode == Mode::kMc) plan.stop = &g_stopRequested;
   RenderResult result = renderScene(scene.job(), plan, report);
+  if (result.stopped && result.sppDone == 0) {
+    std::fprintf(stderr, "lvox: interrupted before any sample was finished: nothing written\n");
+    return 130;
+  }
   Image& image = result.image;
   report.memory["peak_rss"] = peakRssBytes();
   report.times["total"] =
@@ -167,7 +210,14 @@ int runRender(const RenderFlags& flags) {
     if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
   });
   if (!flags.quiet) printSummary(scene, report, outputs.exrPath());
-  return 0;
+  if (!result.stopped) return 0;
+  const uint64_t next = flags.firstSample + static_cast<uint64_t>(result.sppDone);
+  std::fprintf(stderr,
+               "lvox: interrupted: %d of %d samples per pixel written; resume with "
+               "--first-sample %llu --spp %d, then lvox merge\n",
+               result.sppDone, plan.spp, static_cast<unsigned long long>(next),
+               plan.spp - result.sppDone);
+  return 130;
 }
 
 }  // namespace

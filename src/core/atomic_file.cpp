@@ -52,6 +52,12 @@ void syncPath(const std::string& path, int flags) {
     throw InputError(path, "", std::string("fsync failed: ") + std::strerror(err));
 }
 
+}  // namespace
+
+void removeStagedTemporaries();
+
+namespace {
+
 // Temporaries staged anywhere in the process, for the signal handler: fixed storage, so
 // the handler only reads memory and calls unlink (both async-signal-safe).
 constexpr int kMaxStaged = 64;
@@ -60,8 +66,7 @@ std::atomic<bool> g_stagedUsed[kMaxStaged];
 std::once_flag g_handlersInstalled;
 
 extern "C" void removeStagedAndReraise(int sig) {
-  for (int i = 0; i < kMaxStaged; ++i)
-    if (g_stagedUsed[i].load()) ::unlink(g_stagedPath[i]);
+  removeStagedTemporaries();
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
@@ -96,6 +101,11 @@ void unregisterStaged(int slot) {
 }
 
 }  // namespace
+
+void removeStagedTemporaries() {
+  for (int i = 0; i < kMaxStaged; ++i)
+    if (g_stagedUsed[i].load()) ::unlink(g_stagedPath[i]);
+}
 
 OutputSet::~OutputSet() { discard(); }
 

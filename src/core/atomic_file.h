@@ -37,6 +37,10 @@ class OutputSet {
   std::vector<Staged> staged_;
 };
 
+// Unlinks every staged temporary of the process; async-signal-safe, for a program's own
+// signal handler (OutputSet installs its own only where none is set).
+void removeStagedTemporaries();
+
 // One file, staged and committed at once.
 void publishAtomically(const std::string& path,
                        const std::function<void(const std::string&)>& write,

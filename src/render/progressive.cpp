@@ -1,5 +1,6 @@
 #include "src/render/progressive.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace lvox {
@@ -9,6 +10,13 @@ Image mean(const Image& sum, int spp) {
   Image out = sum;
   for (RGB& p : out.pixels) p /= static_cast<float>(spp);
   return out;
+}
+
+// A pass that can be stopped: about half a second of work, so a stop request is honoured
+// quickly and loses little (one sample at first, until a sample's time is known).
+int stoppablePass(double secondsPerSample) {
+  if (!(secondsPerSample > 0.0)) return 1;
+  return static_cast<int>(std::clamp(0.5 / secondsPerSample, 1.0, 1e6));
 }
 
 }  // namespace
@@ -22,8 +30,15 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
   const auto start = Clock::now();
   double secondsPerSample = 0.0;
   while (result.sppDone < plan.spp) {
-    // Doubling passes (1, 1, 2, 4, ...) when progressive, else everything at once.
-    int pass = progressive ? std::max(1, result.sppDone) : plan.spp;
+    if (plan.stop && plan.stop->load()) {
+      result.stopped = true;
+      break;
+    }
+    // Doubling passes (1, 1, 2, 4, ...) when progressive, small ones when it may be
+    // stopped, else everything at once.
+    int pass = progressive ? std::max(1, result.sppDone)
+               : plan.stop ? stoppablePass(secondsPerSample)
+                           : plan.spp;
     pass = std::min(pass, plan.spp - result.sppDone);
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     if (plan.timeLimitSeconds > 0.0 && result.sppDone > 0) {
@@ -48,7 +63,7 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
       result.convergence.push_back(point);
     }
   }
-  result.image = mean(sum, result.sppDone);
+  result.image = result.sppDone > 0 ? mean(sum, result.sppDone) : sum;
   return result;
 }
 

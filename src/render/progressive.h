@@ -3,6 +3,7 @@
 // ... samples in total) to honour a time budget or to record the error against a
 // reference after every doubling. Because every sample has its own random stream, the
 // image after n samples is the same whichever way it was reached.
+#include <atomic>
 #include <vector>
 
 #include "src/core/image.h"
@@ -16,6 +17,10 @@ struct RenderPlan {
   uint64_t firstSample = 0;          // index of the first sample: chunks of one reference
   double timeLimitSeconds = 0.0;     // 0: no budget
   const Image* reference = nullptr;  // record the error after each doubling
+  // Set (by a signal handler) to stop after the pass under way: the result then holds the
+  // samples finished so far. With it, passes take about half a second, so little work is
+  // lost and a stop is quick.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct ConvergencePoint {
@@ -27,6 +32,7 @@ struct ConvergencePoint {
 struct RenderResult {
   Image image;  // mean of the samples rendered
   int sppDone = 0;
+  bool stopped = false;  // plan.stop was set before every sample was done
   std::vector<ConvergencePoint> convergence;
 };
 
