@@ -18,6 +18,29 @@ struct OctreeNode {
   uint32_t elementCount() const { return surfelEnd - surfelBegin + lvoxelEnd - lvoxelBegin; }
 };
 
+// The traversal's view of an inner node's children (traversal.h): their loose bounds as
+// a structure of arrays, so that one SIMD slab test covers four children, and what each
+// child holds, so that a leaf's disks are found without loading the leaf. 256 bytes.
+struct alignas(64) OctreeChildren {
+  static constexpr uint32_t kLeaf = 1u << 31;     // the child is a leaf ...
+  static constexpr uint32_t kSurfels = 1u << 30;  // ... it holds surfels ...
+  static constexpr uint32_t kLvoxels = 1u << 29;  // ... and/or lvoxels
+  static constexpr uint32_t kIndexMask = kLvoxels - 1;
+  float lo[3][8];  // [axis][child]
+  float hi[3][8];
+  // Flags | index: a leaf's first surfel, an inner node's OctreeChildren index; 0 for an
+  // unused lane (every child holds something, so a used lane has a flag set).
+  uint32_t ref[8];
+  uint32_t surfelEnd[8];  // leaves: one past the last surfel
+};
+
+// Per node: where its children's block is (inner nodes), for the heap traversal, which
+// walks nodes by index.
+struct TraversalNode {
+  static constexpr uint32_t kNone = ~0u;
+  uint32_t children = kNone;  // index of the node's OctreeChildren; kNone for leaves
+};
+
 // A node's surfels seen from far away, without spherical harmonics: a partly covering box.
 // `cover` is the union of squares of side 2 sqrt(area) around the surfels (tilted like
 // the disks; twice the equal-area side so they reach the cell walls between lattice

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 
 #include "pointcloud/element_bounds.h"
 #include "pointcloud/point_cloud.h"
@@ -13,7 +14,7 @@ namespace lvox {
 
 namespace {
 
-constexpr uint32_t kMortonBits = 21;  // per axis; 63-bit codes
+constexpr uint32_t kMortonBits = kMaxOctreeDepth;  // per axis; 63-bit codes
 constexpr uint32_t kMaxDepth = kMortonBits;
 
 uint64_t spreadBits(uint32_t v) {
@@ -82,7 +83,27 @@ PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSetting
     : surfels_(std::move(surfels)), lvoxels_(std::move(lvoxels)) {
   build(settings);
   computeBounds();
+  // The aggregates grow the node bounds to hold the cluster proxies; a node's own lvoxel
+  // cube is the one of the previous update, so the bounds (geometry only) are final after
+  // the second update, and the traversal layout copies them then. Renders always updated
+  // twice before tracing (cacheDirectLight updates again), so their bounds are unchanged.
   updateAggregates();
+  updateAggregates();
+  buildTraversalLayout();
+}
+
+bool PointCloud::traversalLayoutMatchesNodes() const {
+  for (uint32_t i = 0; i < nodes_.size(); ++i) {
+    const OctreeNode& node = nodes_[i];
+    if (node.isLeaf()) continue;
+    const OctreeChildren& b = childBlocks_[traversalNodes_[i].children];
+    for (uint32_t c = 0; c < node.childCount; ++c) {
+      const Bounds3& box = nodes_[node.childBegin + c].bounds;
+      for (int a = 0; a < 3; ++a)
+        if (b.lo[a][c] != box.lo[a] || b.hi[a][c] != box.hi[a]) return false;
+    }
+  }
+  return true;
 }
 
 void PointCloud::build(const OctreeSettings& settings) {
@@ -185,12 +206,62 @@ void PointCloud::computeBounds() {
   }
 }
 
+void PointCloud::buildTraversalLayout() {
+  const auto n = static_cast<uint32_t>(nodes_.size());
+  if (n > OctreeChildren::kIndexMask || surfels_.size() > OctreeChildren::kIndexMask)
+    throw std::length_error("point cloud: too many nodes or surfels for the traversal layout");
+  traversalNodes_.assign(n, TraversalNode{});
+  uint32_t blocks = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (!nodes_[i].isLeaf()) traversalNodes_[i].children = blocks++;
+  childBlocks_.assign(blocks, OctreeChildren{});
+  tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {
+    const OctreeNode& node = nodes_[i];
+    if (node.isLeaf()) return;
+    OctreeChildren& b = childBlocks_[traversalNodes_[i].children];
+    for (uint32_t c = 0; c < 8; ++c) {
+      // Unused lanes have ref 0, which masks them; give them an empty box all the same.
+      const Bounds3 box = c < node.childCount ? nodes_[node.childBegin + c].bounds : Bounds3{};
+      for (int a = 0; a < 3; ++a) {
+        b.lo[a][c] = box.lo[a];
+        b.hi[a][c] = box.hi[a];
+      }
+      b.ref[c] = b.surfelEnd[c] = 0;
+      if (c < node.childCount) b.ref[c] = childRef(node.childBegin + c, b.surfelEnd[c]);
+    }
+  });
+  disks_.resize(surfels_.size());
+  tbb::parallel_for(size_t(0), surfels_.size(), [&](size_t i) {
+    const uint32_t clipped = DiskElement::cuts(surfels_.clip[i]) ? DiskElement::kClipped : 0u;
+    disks_[i] = {surfels_.position[i], surfels_.radius[i], surfels_.normal[i],
+                 (surfels_.enclosedSides[i] & 3u) | clipped};
+  });
+  cubes_.resize(lvoxels_.size());
+  for (size_t i = 0; i < lvoxels_.size(); ++i) cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
+}
+
+uint32_t PointCloud::childRef(uint32_t i, uint32_t& surfelEnd) const {
+  const OctreeNode& node = nodes_[i];
+  const uint32_t flags = (node.isLeaf() ? OctreeChildren::kLeaf : 0u) |
+                         (node.surfelEnd > node.surfelBegin ? OctreeChildren::kSurfels : 0u) |
+                         (node.lvoxelEnd > node.lvoxelBegin ? OctreeChildren::kLvoxels : 0u);
+  surfelEnd = node.surfelEnd;
+  return flags | (node.isLeaf() ? node.surfelBegin : traversalNodes_[i].children);
+}
+
 PointCloudMemory PointCloud::memory() const {
   PointCloudMemory m;
   m.surfelBytes = surfels_.memoryBytes();
   m.lvoxelBytes = lvoxels_.memoryBytes();
-  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t);
+  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t) +
+                  traversalBytes();
   return m;
+}
+
+size_t PointCloud::traversalBytes() const {
+  return childBlocks_.size() * sizeof(OctreeChildren) +
+         traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
+         cubes_.size() * sizeof(CubeElement);
 }
 
 }  // namespace lvox

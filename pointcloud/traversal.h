@@ -10,15 +10,30 @@
 // a surfel hit shrinks tmax, so nothing behind it is tested, and visiting it ends the
 // traversal.
 //
+// Speed (docs/pointcloud.md, "Traversal speed"). Most gather rays only want the first
+// disk. For them `traverse` first runs a depth-first search with a small stack (children
+// nearest first, 4-wide slab tests on OctreeChildren) that finds the disk the heap would
+// visit, and falls back to the heap only when the heap's own order could matter: lvoxels
+// in front, or two disks in different leaves tied exactly (see nearestDisk below). Both
+// paths compute every key with the same float operations, so the visits are bit-identical
+// to the heap's (tests/pointcloud/test_traversal_exact.cpp checks it against the original
+// heap traversal).
+//
 // Visitor interface (no virtual calls):
 //   void surfel(uint32_t i, float t, bool front);       // opaque, ends traversal
 //   bool lvoxel(uint32_t i, float t0, float t1);        // false stops
 //   bool surfelCluster(uint32_t node, float t, bool front, float coverage);  // partial
 //   bool lvoxelCluster(uint32_t node, float t0, float t1);  // false stops
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "pointcloud/point_cloud.h"
 #include "pointcloud/ray_element.h"
@@ -43,6 +58,8 @@ struct TraversalStats {
   uint64_t nodesPopped = 0;
   uint64_t elementsTested = 0;
   uint64_t elementsVisited = 0;
+  uint64_t nearestDiskRays = 0;  // rays answered by the depth-first nearest-disk search
+  uint64_t heapRays = 0;         // rays traversed by the heap (after the search or instead)
 };
 
 enum class HitKind : uint8_t { Node, Surfel, Lvoxel, SurfelCluster, LvoxelCluster };
@@ -63,6 +80,73 @@ struct TraversalScratch {
 };
 
 namespace detail {
+
+// The ray as the child tests use it: origin, 1 / direction and tmin, 4 lanes each.
+struct SlabRay {
+#if defined(__SSE2__)
+  __m128 origin[3], inv[3], tmin;
+  explicit SlabRay(const Ray& r) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = _mm_set1_ps(r.origin[a]);
+      inv[a] = _mm_set1_ps(1.0f / r.dir[a]);
+    }
+    tmin = _mm_set1_ps(r.tmin);
+  }
+#else
+  float origin[3], inv[3], tmin;
+  explicit SlabRay(const Ray& r) : tmin(r.tmin) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = r.origin[a];
+      inv[a] = 1.0f / r.dir[a];
+    }
+  }
+#endif
+};
+
+// Bit c set: the ray enters child c's bounds within [tmin, tmax]; entry[c] is then its
+// entry distance. Lane by lane this is Bounds3::intersect with the same roundings and
+// the same NaN handling (a slab the ray lies in gives NaN and is ignored), so the keys
+// are bit-identical: std::max(a, b) is _mm_max_ps(b, a), std::min(a, b) is
+// _mm_min_ps(b, a), and the swap is a min and a max; the early exit only saves work.
+inline uint32_t intersectChildren(const OctreeChildren& b, const SlabRay& r, float tmax,
+                                  float* entry) {
+#if defined(__SSE2__)
+  const __m128 far = _mm_set1_ps(tmax);
+  uint32_t mask = 0;
+  for (int h = 0; h < 8; h += 4) {
+    const __m128i unused = _mm_cmpeq_epi32(
+        _mm_load_si128(reinterpret_cast<const __m128i*>(&b.ref[h])), _mm_setzero_si128());
+    __m128 t0 = r.tmin, t1 = far;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(&b.lo[a][h]), r.origin[a]), r.inv[a]);
+      const __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(&b.hi[a][h]), r.origin[a]), r.inv[a]);
+      t0 = _mm_max_ps(_mm_min_ps(tf, tn), t0);
+      t1 = _mm_min_ps(_mm_max_ps(tn, tf), t1);
+    }
+    _mm_store_ps(entry + h, t0);
+    const __m128 hit = _mm_andnot_ps(_mm_castsi128_ps(unused), _mm_cmple_ps(t0, t1));
+    mask |= static_cast<uint32_t>(_mm_movemask_ps(hit)) << h;
+  }
+  return mask;
+#else
+  uint32_t mask = 0;
+  for (uint32_t c = 0; c < 8 && b.ref[c] != 0; ++c) {
+    float t0 = r.tmin, t1 = tmax;
+    for (int a = 0; a < 3; ++a) {
+      float tn = (b.lo[a][c] - r.origin[a]) * r.inv[a];
+      float tf = (b.hi[a][c] - r.origin[a]) * r.inv[a];
+      if (tn > tf) std::swap(tn, tf);
+      t0 = std::max(t0, tn);
+      t1 = std::min(t1, tf);
+    }
+    entry[c] = t0;
+    if (!(t0 > t1)) mask |= 1u << c;
+  }
+  return mask;
+#endif
+}
+
+// ---- Heap traversal: the reference order ----
 
 inline void pushEntry(std::vector<TraversalEntry>& heap, const TraversalEntry& e) {
   heap.push_back(e);
@@ -102,38 +186,50 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
 
 inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& ray, bool surfels,
                              TraversalScratch& s) {
-  const SurfelSet& sf = pc.surfels();
+  const DiskElement* disks = pc.disks().data();
   for (uint32_t i = node.surfelBegin; surfels && i < node.surfelEnd; ++i) {
     ++s.stats.elementsTested;
     float t;
     bool front;
-    if (intersectDisk(ray, sf.position[i], sf.normal[i], sf.radius[i], sf.clip[i], t, front) &&
-        !(sf.enclosedSides[i] & (front ? 1u : 2u))) {
+    if (intersectDisk(ray, disks[i], pc.diskClip(i), t, front) &&
+        !(disks[i].flags & (front ? 1u : 2u))) {
       pushEntry(s.heap, {t, t, t, i, HitKind::Surfel, front});
       ray.tmax = t;  // opaque: everything behind is hidden
     }
   }
-  const LvoxelSet& lv = pc.lvoxels();
+  const CubeElement* cubes = pc.cubes().data();
   for (uint32_t i = node.lvoxelBegin; i < node.lvoxelEnd; ++i) {
     ++s.stats.elementsTested;
     float t0, t1;
-    if (intersectCube(ray, lv.position[i], lv.halfSize[i], t0, t1))
+    if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1))
       pushEntry(s.heap, {t0, t0, t1, i, HitKind::Lvoxel, false});
   }
 }
 
-}  // namespace detail
+// Opens an inner node: its children the ray enters, pushed in child order (the order
+// fixes how the heap breaks ties, so it must not change).
+inline void pushChildren(const PointCloud& pc, const OctreeNode& node, uint32_t n,
+                         const SlabRay& slab, float tmax, std::vector<TraversalEntry>& heap) {
+  const OctreeChildren& block = pc.childBlocks()[pc.traversalNodes()[n].children];
+  alignas(16) float entry[8];
+  for (uint32_t hits = intersectChildren(block, slab, tmax, entry); hits; hits &= hits - 1) {
+    const auto c = static_cast<uint32_t>(std::countr_zero(hits));
+    pushEntry(heap, {entry[c], entry[c], entry[c], node.childBegin + c, HitKind::Node, false});
+  }
+}
 
 template <class Visitor>
-void traverse(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOptions& options,
-              TraversalScratch& scratch) {
+void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOptions& options,
+                  TraversalScratch& scratch) {
+  ++scratch.stats.heapRays;
   auto& heap = scratch.heap;
   heap.clear();
-  if (pc.empty()) return;
   const std::vector<OctreeNode>& nodes = pc.nodes();
   float t0, t1;
   if (!nodes[0].bounds.intersect(ray, t0, t1)) return;
-  detail::pushEntry(heap, {t0, t0, t1, 0, HitKind::Node, false});
+  const SlabRay slab(ray);
+  const bool clusters = options.maxSolidAngle > 0.0f || options.maxLvoxelSolidAngle > 0.0f;
+  pushEntry(heap, {t0, t0, t1, 0, HitKind::Node, false});
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), std::greater<>{});
     const TraversalEntry e = heap.back();
@@ -144,14 +240,12 @@ void traverse(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOp
         ++scratch.stats.nodesPopped;
         const OctreeNode& node = nodes[e.id];
         if (!options.surfels && node.lvoxelEnd == node.lvoxelBegin) break;
-        if (detail::useCluster(node, ray, options)) {
-          detail::pushClusters(pc, e.id, e.key, ray, options.surfels, heap);
+        if (clusters && useCluster(node, ray, options)) {
+          pushClusters(pc, e.id, e.key, ray, options.surfels, heap);
         } else if (node.isLeaf()) {
-          detail::pushLeafElements(pc, node, ray, options.surfels, scratch);
+          pushLeafElements(pc, node, ray, options.surfels, scratch);
         } else {
-          for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
-            if (nodes[c].bounds.intersect(ray, t0, t1))
-              detail::pushEntry(heap, {t0, t0, t1, c, HitKind::Node, false});
+          pushChildren(pc, node, e.id, slab, ray.tmax, heap);
         }
         break;
       }
@@ -174,6 +268,171 @@ void traverse(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOp
         break;
     }
   }
+}
+
+// ---- Depth-first nearest-disk search ----
+//
+// Which disk does the heap visit first? Leaves pop in the order of their keys k (entry
+// distances), and a disk hit at t enters the heap when its leaf pops, so it pops at
+// f = max(k, t) (a disk may start a rounding before its leaf's box). Working through
+// that order, the heap visits the disk that is least in (f, t, k, index): smaller t
+// wins among equal f (a later disk at t passes only if t < tmax), smaller k among equal
+// t (its leaf pops first), and within a leaf the first disk in index order. The order
+// of leaves with EQUAL keys is the heap's own, so the search gives up on a tie the heap
+// would break: another disk of equal f in another leaf with the same key, or any other
+// disk of equal f when the winner lies before its leaf's key (f = k). Any node with
+// lvoxels whose key is not past the winner also sends the ray to the heap, since the
+// heap visits lvoxels (or their clusters) in front. Nodes are pruned only when their key
+// is past the best f, so every disk of equal f is seen.
+
+struct DiskCandidate {
+  float f, t, key;
+  uint32_t leaf, index;
+  bool front;
+  bool before(const DiskCandidate& o) const {
+    if (t != o.t) return t < o.t;
+    if (key != o.key) return key < o.key;
+    return index < o.index;
+  }
+};
+
+struct NearestDisk {
+  static constexpr int kMaxTies = 8;
+  explicit NearestDisk(float rayTmax) : tmax(rayTmax) {}
+  float tmax;  // the ray's: disks must lie before it, as in the heap
+  bool found = false;
+  bool tooManyTies = false;
+  DiskCandidate best;
+  std::array<DiskCandidate, kMaxTies> ties;  // every candidate with f == best.f (not zeroed)
+  int tieCount = 0;
+  bool lvoxels = false;          // a node with lvoxels was reached ...
+  float nearestLvoxels = kInf;   // ... the least key of those
+
+  float bound() const { return found ? best.f : tmax; }
+  void noteLvoxels(float key) {
+    lvoxels = true;
+    nearestLvoxels = std::min(nearestLvoxels, key);
+  }
+  // The heap would visit lvoxels (or their clusters) before the disk, or instead of none.
+  bool lvoxelsInFront() const { return lvoxels && nearestLvoxels <= bound(); }
+  void offer(const DiskCandidate& c) {
+    if (!found || c.f < best.f) {
+      found = true;
+      best = c;
+      ties[0] = c;
+      tieCount = 1;
+      return;
+    }
+    if (c.f > best.f) return;
+    if (tieCount == kMaxTies) {
+      tooManyTies = true;
+      return;
+    }
+    ties[tieCount++] = c;
+    if (c.before(best)) best = c;
+  }
+  // True when the heap's tie-breaking cannot change the answer.
+  bool unambiguous() const {
+    if (tooManyTies) return false;
+    for (int i = 0; i < tieCount; ++i) {
+      const DiskCandidate& c = ties[i];
+      if (c.leaf != best.leaf && (c.key == best.key || best.t < best.key)) return false;
+    }
+    return true;
+  }
+};
+
+// The disks [begin, end) of the leaf entered at `key` (the first surfel names the leaf).
+inline void testLeafDisks(const PointCloud& pc, uint32_t begin, uint32_t end, float key,
+                          const Ray& ray, NearestDisk& nearest, TraversalStats& stats) {
+  const DiskElement* disks = pc.disks().data();
+  for (uint32_t i = begin; i < end; ++i) {
+    ++stats.elementsTested;
+    float t;
+    bool front;
+    if (!intersectDisk(ray, disks[i], pc.diskClip(i), t, front) ||
+        (disks[i].flags & (front ? 1u : 2u)))
+      continue;
+    const float f = std::max(key, t);
+    if (f <= nearest.bound()) nearest.offer({f, t, key, begin, i, front});
+  }
+}
+
+struct StackEntry {
+  float key;
+  uint32_t ref;        // OctreeChildren::ref encoding
+  uint32_t surfelEnd;  // leaves
+};
+
+// Each level leaves at most 7 siblings on the stack.
+inline constexpr size_t kStackSize = 8 * (kMaxOctreeDepth + 2);
+
+// Pushes the children of `block` the ray enters before `bound`, nearest on top; nodes
+// holding only lvoxels are not opened, only noted.
+inline void pushNearestFirst(const OctreeChildren& block, const SlabRay& slab, NearestDisk& nearest,
+                             std::array<StackEntry, kStackSize>& stack, size_t& size) {
+  alignas(16) float entry[8];
+  const size_t first = size;
+  for (uint32_t hits = intersectChildren(block, slab, nearest.bound(), entry); hits;
+       hits &= hits - 1) {
+    const auto c = static_cast<uint32_t>(std::countr_zero(hits));
+    const uint32_t ref = block.ref[c];
+    if (!(ref & OctreeChildren::kSurfels)) {
+      nearest.noteLvoxels(entry[c]);
+      continue;
+    }
+    // Insertion into the run pushed for this node, farthest first.
+    size_t j = size++;
+    for (; j > first && stack[j - 1].key < entry[c]; --j) stack[j] = stack[j - 1];
+    stack[j] = {entry[c], ref, block.surfelEnd[c]};
+  }
+}
+
+// Finds the disk the heap would visit first; false when only the heap can tell.
+template <class Visitor>
+bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, TraversalStats& stats) {
+  uint32_t rootEnd;
+  const uint32_t root = pc.childRef(0, rootEnd);
+  if (!(root & OctreeChildren::kSurfels)) return false;
+  float t0, t1;
+  if (!pc.nodes()[0].bounds.intersect(ray, t0, t1)) return true;
+  const SlabRay slab(ray);
+  NearestDisk nearest(ray.tmax);
+  std::array<StackEntry, kStackSize> stack;
+  size_t size = 0;
+  stack[size++] = {t0, root, rootEnd};
+  while (size > 0) {
+    const StackEntry e = stack[--size];
+    if (e.key > nearest.bound()) continue;
+    ++stats.nodesPopped;
+    const uint32_t index = e.ref & OctreeChildren::kIndexMask;
+    if (!(e.ref & OctreeChildren::kLeaf)) {
+      pushNearestFirst(pc.childBlocks()[index], slab, nearest, stack, size);
+      continue;
+    }
+    if (e.ref & OctreeChildren::kLvoxels) nearest.noteLvoxels(e.key);
+    testLeafDisks(pc, index, e.surfelEnd, e.key, ray, nearest, stats);
+  }
+  if (nearest.lvoxelsInFront() || !nearest.unambiguous()) return false;
+  ++stats.nearestDiskRays;
+  if (nearest.found) {
+    ++stats.elementsVisited;
+    visitor.surfel(nearest.best.index, nearest.best.t, nearest.best.front);
+  }
+  return true;
+}
+
+}  // namespace detail
+
+template <class Visitor>
+void traverse(const PointCloud& pc, const Ray& ray, Visitor& visitor,
+              const TraversalOptions& options, TraversalScratch& scratch) {
+  if (pc.empty()) return;
+  // Surfel clusters would be visited before the first disk: only the heap handles them.
+  if (options.surfels && !(options.maxSolidAngle > 0.0f) &&
+      detail::nearestDisk(pc, ray, visitor, scratch.stats))
+    return;
+  detail::traverseHeap(pc, ray, visitor, options, scratch);
 }
 
 }  // namespace lvox

@@ -14,7 +14,8 @@
 //   lvoxel gathers (disks)    sphere rays from lvoxel centres, as the lvoxel gathers
 // Embree traces each workload's rays with RayTracer::intersect (rtcIntersect1). Times are
 // the best of --reps runs, octree and Embree interleaved so that load from other
-// processes hits both alike. The checksum hashes every element each ray reached with the
+// processes hits both alike; one thread is timed by its CPU clock, more threads by the
+// wall clock. The checksum hashes every element each ray reached with the
 // bits of its weight: equal checksums mean equal gathers (and equal images).
 //
 //   build/tests/bench/lvox_gather_speed [--rays N] [--reps R] [--threads 1,2]
@@ -25,6 +26,7 @@
 #include <tbb/task_arena.h>
 
 #include <bit>
+#include <ctime>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +87,7 @@ struct Timing {
   double seconds = 1e30;
   uint64_t checksum = 0;
   double workPerRay = 0.0;
+  double heapShare = 0.0;  // rays the heap traversed, of all rays
 };
 
 // 4 stratified cosine-weighted rays (2 x 2 strata, as gatherIrradianceInto with 4
@@ -127,8 +130,21 @@ std::vector<Ray> lvoxelGatherRays(const LvoxelSet& l, size_t count) {
   return rays;
 }
 
+double threadSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// One thread: a serial loop timed by the thread's CPU clock, so that time spent descheduled
+// on a shared machine does not count. More threads: a TBB arena, timed by the wall clock.
 template <class PerRay>
 double timeRays(size_t n, int threads, const PerRay& perRay) {
+  if (threads == 1) {
+    const double start = threadSeconds();
+    for (size_t k = 0; k < n; ++k) perRay(k);
+    return threadSeconds() - start;
+  }
   tbb::task_arena arena(threads);
   const auto start = std::chrono::steady_clock::now();
   arena.execute([&] {
@@ -163,9 +179,13 @@ Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions
     hashes[k] = sink.hash;
   });
   t.checksum = combine(hashes);
-  uint64_t work = 0;
-  for (const TraversalScratch& s : scratch) work += s.stats.nodesPopped + s.stats.elementsTested;
+  uint64_t work = 0, heap = 0;
+  for (const TraversalScratch& s : scratch) {
+    work += s.stats.nodesPopped + s.stats.elementsTested;
+    heap += s.stats.heapRays;
+  }
   t.workPerRay = static_cast<double>(work) / static_cast<double>(w.rays.size());
+  t.heapShare = static_cast<double>(heap) / static_cast<double>(w.rays.size());
   return t;
 }
 
@@ -235,8 +255,8 @@ void runScene(const std::string& path, const Args& args) {
               std::filesystem::path(path).filename().c_str(), scene.mesh.triangleCount(),
               cloud.surfels().size(), spacing, cloud.lvoxels().size(), cloud.nodes().size(),
               buildSeconds);
-  std::printf("%-26s %7s %8s %14s %14s %7s %9s  %s\n", "workload", "threads", "rays",
-              "octree Mrays/s", "embree Mrays/s", "ratio", "work/ray", "checksum");
+  std::printf("%-26s %7s %8s %14s %14s %7s %9s %6s  %s\n", "workload", "threads", "rays",
+              "octree Mrays/s", "embree Mrays/s", "ratio", "work/ray", "heap", "checksum");
   for (const Workload& w : workloads)
     for (int threads : args.threads) {
       Timing octree, embree;
@@ -248,9 +268,10 @@ void runScene(const std::string& path, const Args& args) {
       }
       const double n = static_cast<double>(w.rays.size());
       const double octreeRate = n / octree.seconds, embreeRate = n / embree.seconds;
-      std::printf("%-26s %7d %8zu %14.3f %14.3f %7.3f %9.1f  %016llx\n", w.name, threads,
+      std::printf("%-26s %7d %8zu %14.3f %14.3f %7.3f %9.1f %5.1f%%  %016llx\n", w.name, threads,
                   w.rays.size(), octreeRate * 1e-6, embreeRate * 1e-6, octreeRate / embreeRate,
-                  octree.workPerRay, static_cast<unsigned long long>(octree.checksum));
+                  octree.workPerRay, 100.0 * octree.heapShare,
+                  static_cast<unsigned long long>(octree.checksum));
     }
 }
 
