@@ -230,7 +230,8 @@ void PointCloud::buildTraversalLayout() {
       if (c < node.childCount) b.ref[c] = childRef(node.childBegin + c, b.surfelEnd[c]);
     }
   });
-  disks_.resize(surfels_.size());
+  // Three empty records past the end: 4-wide tests may read up to 3 disks past a leaf.
+  disks_.assign(surfels_.size() + (surfels_.size() > 0 ? 3 : 0), DiskElement{});
   tbb::parallel_for(size_t(0), surfels_.size(), [&](size_t i) {
     const uint32_t clipped = DiskElement::cuts(surfels_.clip[i]) ? DiskElement::kClipped : 0u;
     disks_[i] = {surfels_.position[i], surfels_.radius[i], surfels_.normal[i],

@@ -298,8 +298,8 @@ struct DiskCandidate {
 
 struct NearestDisk {
   static constexpr int kMaxTies = 8;
-  explicit NearestDisk(float rayTmax) : tmax(rayTmax) {}
-  float tmax;  // the ray's: disks must lie before it, as in the heap
+  explicit NearestDisk(float rayTmax) : limit(rayTmax) {}
+  float limit;  // best.f once found, else the ray's tmax: keys past it are pruned
   bool found = false;
   bool tooManyTies = false;
   DiskCandidate best;
@@ -308,7 +308,7 @@ struct NearestDisk {
   bool lvoxels = false;          // a node with lvoxels was reached ...
   float nearestLvoxels = kInf;   // ... the least key of those
 
-  float bound() const { return found ? best.f : tmax; }
+  float bound() const { return limit; }
   void noteLvoxels(float key) {
     lvoxels = true;
     nearestLvoxels = std::min(nearestLvoxels, key);
@@ -319,6 +319,7 @@ struct NearestDisk {
     if (!found || c.f < best.f) {
       found = true;
       best = c;
+      limit = c.f;
       ties[0] = c;
       tieCount = 1;
       return;
@@ -342,36 +343,119 @@ struct NearestDisk {
   }
 };
 
+#if defined(__SSE2__)
+// The ray for disk tests, 4 lanes per value.
+struct DiskRay {
+  __m128 origin[3], dir[3], tmin, tmax;
+  explicit DiskRay(const Ray& r) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = _mm_set1_ps(r.origin[a]);
+      dir[a] = _mm_set1_ps(r.dir[a]);
+    }
+    tmin = _mm_set1_ps(r.tmin);
+    tmax = _mm_set1_ps(r.tmax);
+  }
+};
+
+// intersectDisk for the 4 disks at d (records past a leaf's end are masked by the caller;
+// the array is padded), lane by lane with the same operations in the same order, so t and
+// the verdicts are bit-identical: dot(a, b) is (ax bx + ay by) + az bz, at(t) - c is
+// (o + dir t) - c. Bit i: disk i is hit before its cut is tested (callers test the cut
+// of the few disks that have one); front bits in `front`.
+inline uint32_t intersectDisks4(const DiskElement* d, const DiskRay& r, float* t, uint32_t& front) {
+  __m128 px = _mm_loadu_ps(&d[0].position.x), py = _mm_loadu_ps(&d[1].position.x);
+  __m128 pz = _mm_loadu_ps(&d[2].position.x), radius = _mm_loadu_ps(&d[3].position.x);
+  _MM_TRANSPOSE4_PS(px, py, pz, radius);
+  __m128 nx = _mm_loadu_ps(&d[0].normal.x), ny = _mm_loadu_ps(&d[1].normal.x);
+  __m128 nz = _mm_loadu_ps(&d[2].normal.x), unusedFlags = _mm_loadu_ps(&d[3].normal.x);
+  _MM_TRANSPOSE4_PS(nx, ny, nz, unusedFlags);
+  const __m128 denom = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, r.dir[0]), _mm_mul_ps(ny, r.dir[1])),
+                                  _mm_mul_ps(nz, r.dir[2]));
+  const __m128 cx = _mm_sub_ps(px, r.origin[0]), cy = _mm_sub_ps(py, r.origin[1]);
+  const __m128 cz = _mm_sub_ps(pz, r.origin[2]);
+  const __m128 tv = _mm_div_ps(
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, nx), _mm_mul_ps(cy, ny)), _mm_mul_ps(cz, nz)), denom);
+  const __m128 qx = _mm_sub_ps(_mm_add_ps(r.origin[0], _mm_mul_ps(r.dir[0], tv)), px);
+  const __m128 qy = _mm_sub_ps(_mm_add_ps(r.origin[1], _mm_mul_ps(r.dir[1], tv)), py);
+  const __m128 qz = _mm_sub_ps(_mm_add_ps(r.origin[2], _mm_mul_ps(r.dir[2], tv)), pz);
+  const __m128 qq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(qx, qx), _mm_mul_ps(qy, qy)), _mm_mul_ps(qz, qz));
+  const __m128 absDenom = _mm_andnot_ps(_mm_set1_ps(-0.0f), denom);
+  __m128 hit = _mm_cmpnlt_ps(absDenom, _mm_set1_ps(1e-12f));  // !(|denom| < 1e-12)
+  hit = _mm_and_ps(hit, _mm_and_ps(_mm_cmpgt_ps(tv, r.tmin), _mm_cmplt_ps(tv, r.tmax)));
+  hit = _mm_and_ps(hit, _mm_cmpngt_ps(qq, _mm_mul_ps(radius, radius)));  // !(q.q > r r)
+  _mm_storeu_ps(t, tv);
+  front = static_cast<uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(denom, _mm_setzero_ps())));
+  return static_cast<uint32_t>(_mm_movemask_ps(hit));
+}
+#endif
+
 // The disks [begin, end) of the leaf entered at `key` (the first surfel names the leaf).
 inline void testLeafDisks(const PointCloud& pc, uint32_t begin, uint32_t end, float key,
                           const Ray& ray, NearestDisk& nearest, TraversalStats& stats) {
   const DiskElement* disks = pc.disks().data();
-  for (uint32_t i = begin; i < end; ++i) {
-    ++stats.elementsTested;
-    float t;
-    bool front;
-    if (!intersectDisk(ray, disks[i], pc.diskClip(i), t, front) ||
-        (disks[i].flags & (front ? 1u : 2u)))
-      continue;
+  stats.elementsTested += end - begin;
+  auto offer = [&](uint32_t i, float t, bool front) {
+    if (disks[i].flags & (front ? 1u : 2u)) return;  // an enclosed side: passed
     const float f = std::max(key, t);
     if (f <= nearest.bound()) nearest.offer({f, t, key, begin, i, front});
+  };
+#if defined(__SSE2__)
+  const DiskRay r(ray);
+  for (uint32_t i = begin; i < end; i += 4) {
+    alignas(16) float t[4];
+    uint32_t front;
+    uint32_t hits = intersectDisks4(disks + i, r, t, front);
+    if (end - i < 4) hits &= (1u << (end - i)) - 1u;
+    for (; hits; hits &= hits - 1) {
+      const auto lane = static_cast<uint32_t>(std::countr_zero(hits));
+      const uint32_t k = i + lane;
+      float tk;
+      bool fk;
+      // A cut disk: the scalar test, which also tests the cut (same t, same verdict).
+      if ((disks[k].flags & DiskElement::kClipped) &&
+          !intersectDisk(ray, disks[k], pc.diskClip(k), tk, fk))
+        continue;
+      offer(k, t[lane], (front >> lane) & 1u);
+    }
   }
+#else
+  for (uint32_t i = begin; i < end; ++i) {
+    float t;
+    bool front;
+    if (intersectDisk(ray, disks[i], pc.diskClip(i), t, front)) offer(i, t, front);
+  }
+#endif
 }
 
-struct StackEntry {
+// 16 bytes, copied whole: a 12-byte entry written as three words and read back as one
+// 8-byte and one 4-byte word stalled on store forwarding.
+struct alignas(16) StackEntry {
   float key;
   uint32_t ref;        // OctreeChildren::ref encoding
   uint32_t surfelEnd;  // leaves
+  uint32_t unused;
 };
 
 // Each level leaves at most 7 siblings on the stack.
 inline constexpr size_t kStackSize = 8 * (kMaxOctreeDepth + 2);
 
-// Pushes the children of `block` the ray enters before `bound`, nearest on top; nodes
-// holding only lvoxels are not opened, only noted.
-inline void pushNearestFirst(const OctreeChildren& block, const SlabRay& slab, NearestDisk& nearest,
-                             std::array<StackEntry, kStackSize>& stack, size_t& size) {
+inline void prefetchLine(const void* p) {
+#if defined(__SSE2__)
+  _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0);
+#else
+  (void)p;
+#endif
+}
+
+// Opens `block`: children holding only lvoxels are noted, leaves are tested at once
+// (nearest first, their disk loads started together so that the misses overlap), and
+// inner children are pushed nearest on top.
+inline void openBlock(const PointCloud& pc, const OctreeChildren& block, const SlabRay& slab,
+                      const Ray& ray, NearestDisk& nearest, std::array<StackEntry, kStackSize>& stack,
+                      size_t& size, TraversalStats& stats) {
   alignas(16) float entry[8];
+  std::array<StackEntry, 8> leaves;
+  size_t leafCount = 0;
   const size_t first = size;
   for (uint32_t hits = intersectChildren(block, slab, nearest.bound(), entry); hits;
        hits &= hits - 1) {
@@ -381,10 +465,25 @@ inline void pushNearestFirst(const OctreeChildren& block, const SlabRay& slab, N
       nearest.noteLvoxels(entry[c]);
       continue;
     }
+    const StackEntry e{entry[c], ref, block.surfelEnd[c], 0};
+    if (ref & OctreeChildren::kLeaf) {
+      prefetchLine(pc.disks().data() + (ref & OctreeChildren::kIndexMask));
+      size_t j = leafCount++;
+      for (; j > 0 && leaves[j - 1].key > e.key; --j) leaves[j] = leaves[j - 1];
+      leaves[j] = e;
+      continue;
+    }
     // Insertion into the run pushed for this node, farthest first.
     size_t j = size++;
-    for (; j > first && stack[j - 1].key < entry[c]; --j) stack[j] = stack[j - 1];
-    stack[j] = {entry[c], ref, block.surfelEnd[c]};
+    for (; j > first && stack[j - 1].key < e.key; --j) stack[j] = stack[j - 1];
+    stack[j] = e;
+  }
+  for (size_t l = 0; l < leafCount; ++l) {
+    const StackEntry& e = leaves[l];
+    if (e.key > nearest.bound()) break;
+    ++stats.nodesPopped;
+    if (e.ref & OctreeChildren::kLvoxels) nearest.noteLvoxels(e.key);
+    testLeafDisks(pc, e.ref & OctreeChildren::kIndexMask, e.surfelEnd, e.key, ray, nearest, stats);
   }
 }
 
@@ -398,20 +497,20 @@ bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, Travers
   if (!pc.nodes()[0].bounds.intersect(ray, t0, t1)) return true;
   const SlabRay slab(ray);
   NearestDisk nearest(ray.tmax);
-  std::array<StackEntry, kStackSize> stack;
-  size_t size = 0;
-  stack[size++] = {t0, root, rootEnd};
-  while (size > 0) {
-    const StackEntry e = stack[--size];
-    if (e.key > nearest.bound()) continue;
-    ++stats.nodesPopped;
-    const uint32_t index = e.ref & OctreeChildren::kIndexMask;
-    if (!(e.ref & OctreeChildren::kLeaf)) {
-      pushNearestFirst(pc.childBlocks()[index], slab, nearest, stack, size);
-      continue;
+  if (root & OctreeChildren::kLeaf) {
+    if (root & OctreeChildren::kLvoxels) nearest.noteLvoxels(t0);
+    testLeafDisks(pc, root & OctreeChildren::kIndexMask, rootEnd, t0, ray, nearest, stats);
+  } else {
+    std::array<StackEntry, kStackSize> stack;
+    size_t size = 0;
+    stack[size++] = {t0, root, rootEnd, 0};
+    while (size > 0) {
+      const StackEntry e = stack[--size];
+      if (e.key > nearest.bound()) continue;
+      ++stats.nodesPopped;
+      openBlock(pc, pc.childBlocks()[e.ref & OctreeChildren::kIndexMask], slab, ray, nearest,
+                stack, size, stats);
     }
-    if (e.ref & OctreeChildren::kLvoxels) nearest.noteLvoxels(e.key);
-    testLeafDisks(pc, index, e.surfelEnd, e.key, ray, nearest, stats);
   }
   if (nearest.lvoxelsInFront() || !nearest.unambiguous()) return false;
   ++stats.nearestDiskRays;
