@@ -45,14 +45,16 @@ class PointCloud {
 
   // The traversal's layout (traversal.h), built with the octree from the elements'
   // geometry, which must not change afterwards: per inner node its children's bounds as
-  // SIMD-ready arrays, per node its block, and the disks and cubes packed in octree order.
+  // SIMD-ready arrays (8 lanes for the heap, up to 16 descendants for the nearest-disk
+  // search), per node its block, and the disks and cubes packed in octree order.
   const std::vector<OctreeChildren>& childBlocks() const { return childBlocks_; }
+  const std::vector<WideChildren>& wideBlocks() const { return wideBlocks_; }
   const std::vector<TraversalNode>& traversalNodes() const { return traversalNodes_; }
   const std::vector<DiskElement>& disks() const { return disks_; }
   const DiskClip& diskClip(uint32_t surfel) const { return surfels_.clip[surfel]; }
   const std::vector<CubeElement>& cubes() const { return cubes_; }
-  // Node i as its parent's OctreeChildren refers to it (flags | index), and its surfel end.
-  uint32_t childRef(uint32_t i, uint32_t& surfelEnd) const;
+  // The root as the nearest-disk search starts from it (a WideChildren reference).
+  uint32_t searchRoot(uint32_t& surfelEnd) const;
   // True while the layout's child bounds equal the nodes' (tests: updates keep them).
   bool traversalLayoutMatchesNodes() const;
   // Depth of the deepest leaf (root = 0).
@@ -82,6 +84,7 @@ class PointCloud {
   std::vector<SurfelCluster> surfelClusters_;
   std::vector<LvoxelCluster> lvoxelClusters_;
   std::vector<OctreeChildren> childBlocks_;
+  std::vector<WideChildren> wideBlocks_;
   std::vector<TraversalNode> traversalNodes_;
   std::vector<DiskElement> disks_;
   std::vector<CubeElement> cubes_;

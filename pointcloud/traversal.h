@@ -108,12 +108,58 @@ struct SlabRay {
 // the same NaN handling (a slab the ray lies in gives NaN and is ignored), so the keys
 // are bit-identical: std::max(a, b) is _mm_max_ps(b, a), std::min(a, b) is
 // _mm_min_ps(b, a), and the swap is a min and a max; the early exit only saves work.
-inline uint32_t intersectChildren(const OctreeChildren& b, const SlabRay& r, float tmax,
-                                  float* entry) {
+#if defined(__SSE2__) && defined(__GNUC__) && !defined(__AVX__)
+#define LVOX_AVX_DISPATCH 1
+// The same test 8 lanes at a time where the CPU has AVX (the build targets plain x86-64,
+// so it is compiled for AVX here and chosen at run time): Embree does the same.
+template <int W>
+__attribute__((target("avx"), noinline)) uint32_t intersectChildrenAvx(const ChildBlock<W>& b,
+                                                                       const SlabRay& r,
+                                                                       float tmax, float* entry) {
+  __m256 origin[3], inv[3];
+  for (int a = 0; a < 3; ++a) {
+    origin[a] = _mm256_set_m128(r.origin[a], r.origin[a]);
+    inv[a] = _mm256_set_m128(r.inv[a], r.inv[a]);
+  }
+  const __m256 near = _mm256_set_m128(r.tmin, r.tmin), far = _mm256_set1_ps(tmax);
+  uint32_t mask = 0;
+  for (int h = 0; h < W && b.ref[h] != 0; h += 8) {
+    const __m256 unused = _mm256_castsi256_ps(_mm256_set_m128i(
+        _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(&b.ref[h + 4])),
+                        _mm_setzero_si128()),
+        _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i*>(&b.ref[h])),
+                        _mm_setzero_si128())));
+    __m256 t0 = near, t1 = far;
+    for (int a = 0; a < 3; ++a) {
+      const __m256 tn = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.lo[a][h]), origin[a]), inv[a]);
+      const __m256 tf = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.hi[a][h]), origin[a]), inv[a]);
+      t0 = _mm256_max_ps(_mm256_min_ps(tf, tn), t0);
+      t1 = _mm256_min_ps(_mm256_max_ps(tn, tf), t1);
+    }
+    _mm256_store_ps(entry + h, t0);
+    const __m256 hit = _mm256_andnot_ps(unused, _mm256_cmp_ps(t0, t1, _CMP_LE_OQ));
+    mask |= static_cast<uint32_t>(_mm256_movemask_ps(hit)) << h;
+  }
+  return mask;
+}
+
+inline bool cpuHasAvx() {
+  static const bool avx = __builtin_cpu_supports("avx");
+  return avx;
+}
+#endif
+
+// `entry` must be 32-byte aligned.
+template <int W>
+uint32_t intersectChildren(const ChildBlock<W>& b, const SlabRay& r, float tmax, float* entry) {
+#if defined(LVOX_AVX_DISPATCH)
+  if (cpuHasAvx()) return intersectChildrenAvx(b, r, tmax, entry);
+#endif
 #if defined(__SSE2__)
   const __m128 far = _mm_set1_ps(tmax);
   uint32_t mask = 0;
-  for (int h = 0; h < 8; h += 4) {
+  // Lanes are used from 0 up: a quad that starts unused ends the block.
+  for (int h = 0; h < W && b.ref[h] != 0; h += 4) {
     const __m128i unused = _mm_cmpeq_epi32(
         _mm_load_si128(reinterpret_cast<const __m128i*>(&b.ref[h])), _mm_setzero_si128());
     __m128 t0 = r.tmin, t1 = far;
@@ -130,7 +176,7 @@ inline uint32_t intersectChildren(const OctreeChildren& b, const SlabRay& r, flo
   return mask;
 #else
   uint32_t mask = 0;
-  for (uint32_t c = 0; c < 8 && b.ref[c] != 0; ++c) {
+  for (uint32_t c = 0; c < W && b.ref[c] != 0; ++c) {
     float t0 = r.tmin, t1 = tmax;
     for (int a = 0; a < 3; ++a) {
       float tn = (b.lo[a][c] - r.origin[a]) * r.inv[a];
@@ -145,6 +191,52 @@ inline uint32_t intersectChildren(const OctreeChildren& b, const SlabRay& r, flo
   return mask;
 #endif
 }
+
+#if defined(__SSE2__)
+// The ray for disk tests, 4 lanes per value.
+struct DiskRay {
+  __m128 origin[3], dir[3], tmin, tmax;
+  explicit DiskRay(const Ray& r) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = _mm_set1_ps(r.origin[a]);
+      dir[a] = _mm_set1_ps(r.dir[a]);
+    }
+    tmin = _mm_set1_ps(r.tmin);
+    tmax = _mm_set1_ps(r.tmax);
+  }
+};
+
+// intersectDisk for the 4 disks at d (records past a leaf's end are masked by the caller;
+// the array is padded), lane by lane with the same operations in the same order, so t and
+// the verdicts are bit-identical: dot(a, b) is (ax bx + ay by) + az bz, at(t) - c is
+// (o + dir t) - c. Bit i: disk i is hit before its cut is tested (callers test the cut
+// of the few disks that have one); front bits in `front`.
+inline uint32_t intersectDisks4(const DiskElement* d, const DiskRay& r, float* t, uint32_t& front) {
+  __m128 px = _mm_loadu_ps(&d[0].position.x), py = _mm_loadu_ps(&d[1].position.x);
+  __m128 pz = _mm_loadu_ps(&d[2].position.x), radius = _mm_loadu_ps(&d[3].position.x);
+  _MM_TRANSPOSE4_PS(px, py, pz, radius);
+  __m128 nx = _mm_loadu_ps(&d[0].normal.x), ny = _mm_loadu_ps(&d[1].normal.x);
+  __m128 nz = _mm_loadu_ps(&d[2].normal.x), unusedFlags = _mm_loadu_ps(&d[3].normal.x);
+  _MM_TRANSPOSE4_PS(nx, ny, nz, unusedFlags);
+  const __m128 denom = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, r.dir[0]), _mm_mul_ps(ny, r.dir[1])),
+                                  _mm_mul_ps(nz, r.dir[2]));
+  const __m128 cx = _mm_sub_ps(px, r.origin[0]), cy = _mm_sub_ps(py, r.origin[1]);
+  const __m128 cz = _mm_sub_ps(pz, r.origin[2]);
+  const __m128 tv = _mm_div_ps(
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, nx), _mm_mul_ps(cy, ny)), _mm_mul_ps(cz, nz)), denom);
+  const __m128 qx = _mm_sub_ps(_mm_add_ps(r.origin[0], _mm_mul_ps(r.dir[0], tv)), px);
+  const __m128 qy = _mm_sub_ps(_mm_add_ps(r.origin[1], _mm_mul_ps(r.dir[1], tv)), py);
+  const __m128 qz = _mm_sub_ps(_mm_add_ps(r.origin[2], _mm_mul_ps(r.dir[2], tv)), pz);
+  const __m128 qq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(qx, qx), _mm_mul_ps(qy, qy)), _mm_mul_ps(qz, qz));
+  const __m128 absDenom = _mm_andnot_ps(_mm_set1_ps(-0.0f), denom);
+  __m128 hit = _mm_cmpnlt_ps(absDenom, _mm_set1_ps(1e-12f));  // !(|denom| < 1e-12)
+  hit = _mm_and_ps(hit, _mm_and_ps(_mm_cmpgt_ps(tv, r.tmin), _mm_cmplt_ps(tv, r.tmax)));
+  hit = _mm_and_ps(hit, _mm_cmpngt_ps(qq, _mm_mul_ps(radius, radius)));  // !(q.q > r r)
+  _mm_storeu_ps(t, tv);
+  front = static_cast<uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(denom, _mm_setzero_ps())));
+  return static_cast<uint32_t>(_mm_movemask_ps(hit));
+}
+#endif
 
 // ---- Heap traversal: the reference order ----
 
@@ -184,21 +276,49 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
   }
 }
 
-inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& ray, bool surfels,
-                             TraversalScratch& s) {
+// Tests a leaf's disks (4 at a time where SSE2 is there) and lvoxels and pushes their
+// hits in element order; each disk hit shrinks tmax for the disks after it, exactly as
+// the one-by-one loop did (a 4-wide test uses the tmax at its start, and every lane is
+// checked against the current tmax before it is pushed).
+inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ray& ray,
+                             bool surfels, TraversalScratch& s) {
   const DiskElement* disks = pc.disks().data();
-  for (uint32_t i = node.surfelBegin; surfels && i < node.surfelEnd; ++i) {
-    ++s.stats.elementsTested;
-    float t;
-    bool front;
-    if (intersectDisk(ray, disks[i], pc.diskClip(i), t, front) &&
-        !(disks[i].flags & (front ? 1u : 2u))) {
-      pushEntry(s.heap, {t, t, t, i, HitKind::Surfel, front});
-      ray.tmax = t;  // opaque: everything behind is hidden
+  const uint32_t begin = leaf.ref & OctreeChildren::kIndexMask, end = surfels ? leaf.surfelEnd : begin;
+  s.stats.elementsTested += end - begin;
+  auto push = [&](uint32_t i, float t, bool front) {
+    if (disks[i].flags & (front ? 1u : 2u)) return;
+    s.heap.push_back({t, t, t, i, HitKind::Surfel, front});
+    std::push_heap(s.heap.begin(), s.heap.end(), std::greater<>{});
+    ray.tmax = t;  // opaque: everything behind is hidden
+  };
+#if defined(__SSE2__)
+  for (uint32_t i = begin; i < end; i += 4) {
+    const DiskRay r(ray);
+    alignas(16) float t[4];
+    uint32_t front;
+    uint32_t hits = intersectDisks4(disks + i, r, t, front);
+    if (end - i < 4) hits &= (1u << (end - i)) - 1u;
+    for (; hits; hits &= hits - 1) {
+      const auto lane = static_cast<uint32_t>(std::countr_zero(hits));
+      const uint32_t k = i + lane;
+      float tk;
+      bool fk;
+      if (!(t[lane] < ray.tmax) || ((disks[k].flags & DiskElement::kClipped) &&
+                                    !intersectDisk(ray, disks[k], pc.diskClip(k), tk, fk)))
+        continue;
+      push(k, t[lane], (front >> lane) & 1u);
     }
   }
+#else
+  for (uint32_t i = begin; i < end; ++i) {
+    float t;
+    bool front;
+    if (intersectDisk(ray, disks[i], pc.diskClip(i), t, front)) push(i, t, front);
+  }
+#endif
   const CubeElement* cubes = pc.cubes().data();
-  for (uint32_t i = node.lvoxelBegin; i < node.lvoxelEnd; ++i) {
+  const uint32_t lvoxelBegin = leaf.ref & OctreeChildren::kLvoxels ? leaf.first : leaf.lvoxelEnd;
+  for (uint32_t i = lvoxelBegin; i < leaf.lvoxelEnd; ++i) {
     ++s.stats.elementsTested;
     float t0, t1;
     if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1))
@@ -208,15 +328,28 @@ inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& 
 
 // Opens an inner node: its children the ray enters, pushed in child order (the order
 // fixes how the heap breaks ties, so it must not change).
-inline void pushChildren(const PointCloud& pc, const OctreeNode& node, uint32_t n,
-                         const SlabRay& slab, float tmax, std::vector<TraversalEntry>& heap) {
-  const OctreeChildren& block = pc.childBlocks()[pc.traversalNodes()[n].children];
-  alignas(16) float entry[8];
+inline void pushChildren(const PointCloud& pc, const TraversalNode& node, const SlabRay& slab,
+                         float tmax, std::vector<TraversalEntry>& heap) {
+  const OctreeChildren& block = pc.childBlocks()[node.ref & OctreeChildren::kIndexMask];
+  alignas(32) float entry[8];
   for (uint32_t hits = intersectChildren(block, slab, tmax, entry); hits; hits &= hits - 1) {
     const auto c = static_cast<uint32_t>(std::countr_zero(hits));
-    pushEntry(heap, {entry[c], entry[c], entry[c], node.childBegin + c, HitKind::Node, false});
+    pushEntry(heap, {entry[c], entry[c], entry[c], node.first + c, HitKind::Node, false});
   }
 }
+
+// Whether useCluster can say yes for a node with or without surfels: a cluster needs a
+// positive solid angle (useCluster's `maxAngle <= 0` and its comparisons with NaN).
+struct ClusterAngles {
+  bool surfelNodes, otherNodes;
+  explicit ClusterAngles(const TraversalOptions& o)
+      : surfelNodes(o.surfels ? o.maxSolidAngle > 0.0f
+                              : std::max(o.maxSolidAngle, o.maxLvoxelSolidAngle) > 0.0f),
+        otherNodes(std::max(o.maxSolidAngle, o.maxLvoxelSolidAngle) > 0.0f) {}
+  bool possible(uint32_t ref) const {
+    return ref & OctreeChildren::kSurfels ? surfelNodes : otherNodes;
+  }
+};
 
 template <class Visitor>
 void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOptions& options,
@@ -225,10 +358,11 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
   auto& heap = scratch.heap;
   heap.clear();
   const std::vector<OctreeNode>& nodes = pc.nodes();
+  const TraversalNode* tnodes = pc.traversalNodes().data();
   float t0, t1;
   if (!nodes[0].bounds.intersect(ray, t0, t1)) return;
   const SlabRay slab(ray);
-  const bool clusters = options.maxSolidAngle > 0.0f || options.maxLvoxelSolidAngle > 0.0f;
+  const ClusterAngles clusters(options);
   pushEntry(heap, {t0, t0, t1, 0, HitKind::Node, false});
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), std::greater<>{});
@@ -238,14 +372,14 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
     switch (e.kind) {
       case HitKind::Node: {
         ++scratch.stats.nodesPopped;
-        const OctreeNode& node = nodes[e.id];
-        if (!options.surfels && node.lvoxelEnd == node.lvoxelBegin) break;
-        if (clusters && useCluster(node, ray, options)) {
+        const TraversalNode& node = tnodes[e.id];
+        if (!options.surfels && !(node.ref & OctreeChildren::kLvoxels)) break;
+        if (clusters.possible(node.ref) && useCluster(nodes[e.id], ray, options)) {
           pushClusters(pc, e.id, e.key, ray, options.surfels, heap);
-        } else if (node.isLeaf()) {
+        } else if (node.ref & OctreeChildren::kLeaf) {
           pushLeafElements(pc, node, ray, options.surfels, scratch);
         } else {
-          pushChildren(pc, node, e.id, slab, ray.tmax, heap);
+          pushChildren(pc, node, slab, ray.tmax, heap);
         }
         break;
       }
@@ -343,52 +477,6 @@ struct NearestDisk {
   }
 };
 
-#if defined(__SSE2__)
-// The ray for disk tests, 4 lanes per value.
-struct DiskRay {
-  __m128 origin[3], dir[3], tmin, tmax;
-  explicit DiskRay(const Ray& r) {
-    for (int a = 0; a < 3; ++a) {
-      origin[a] = _mm_set1_ps(r.origin[a]);
-      dir[a] = _mm_set1_ps(r.dir[a]);
-    }
-    tmin = _mm_set1_ps(r.tmin);
-    tmax = _mm_set1_ps(r.tmax);
-  }
-};
-
-// intersectDisk for the 4 disks at d (records past a leaf's end are masked by the caller;
-// the array is padded), lane by lane with the same operations in the same order, so t and
-// the verdicts are bit-identical: dot(a, b) is (ax bx + ay by) + az bz, at(t) - c is
-// (o + dir t) - c. Bit i: disk i is hit before its cut is tested (callers test the cut
-// of the few disks that have one); front bits in `front`.
-inline uint32_t intersectDisks4(const DiskElement* d, const DiskRay& r, float* t, uint32_t& front) {
-  __m128 px = _mm_loadu_ps(&d[0].position.x), py = _mm_loadu_ps(&d[1].position.x);
-  __m128 pz = _mm_loadu_ps(&d[2].position.x), radius = _mm_loadu_ps(&d[3].position.x);
-  _MM_TRANSPOSE4_PS(px, py, pz, radius);
-  __m128 nx = _mm_loadu_ps(&d[0].normal.x), ny = _mm_loadu_ps(&d[1].normal.x);
-  __m128 nz = _mm_loadu_ps(&d[2].normal.x), unusedFlags = _mm_loadu_ps(&d[3].normal.x);
-  _MM_TRANSPOSE4_PS(nx, ny, nz, unusedFlags);
-  const __m128 denom = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, r.dir[0]), _mm_mul_ps(ny, r.dir[1])),
-                                  _mm_mul_ps(nz, r.dir[2]));
-  const __m128 cx = _mm_sub_ps(px, r.origin[0]), cy = _mm_sub_ps(py, r.origin[1]);
-  const __m128 cz = _mm_sub_ps(pz, r.origin[2]);
-  const __m128 tv = _mm_div_ps(
-      _mm_add_ps(_mm_add_ps(_mm_mul_ps(cx, nx), _mm_mul_ps(cy, ny)), _mm_mul_ps(cz, nz)), denom);
-  const __m128 qx = _mm_sub_ps(_mm_add_ps(r.origin[0], _mm_mul_ps(r.dir[0], tv)), px);
-  const __m128 qy = _mm_sub_ps(_mm_add_ps(r.origin[1], _mm_mul_ps(r.dir[1], tv)), py);
-  const __m128 qz = _mm_sub_ps(_mm_add_ps(r.origin[2], _mm_mul_ps(r.dir[2], tv)), pz);
-  const __m128 qq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(qx, qx), _mm_mul_ps(qy, qy)), _mm_mul_ps(qz, qz));
-  const __m128 absDenom = _mm_andnot_ps(_mm_set1_ps(-0.0f), denom);
-  __m128 hit = _mm_cmpnlt_ps(absDenom, _mm_set1_ps(1e-12f));  // !(|denom| < 1e-12)
-  hit = _mm_and_ps(hit, _mm_and_ps(_mm_cmpgt_ps(tv, r.tmin), _mm_cmplt_ps(tv, r.tmax)));
-  hit = _mm_and_ps(hit, _mm_cmpngt_ps(qq, _mm_mul_ps(radius, radius)));  // !(q.q > r r)
-  _mm_storeu_ps(t, tv);
-  front = static_cast<uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(denom, _mm_setzero_ps())));
-  return static_cast<uint32_t>(_mm_movemask_ps(hit));
-}
-#endif
-
 // The disks [begin, end) of the leaf entered at `key` (the first surfel names the leaf).
 inline void testLeafDisks(const PointCloud& pc, uint32_t begin, uint32_t end, float key,
                           const Ray& ray, NearestDisk& nearest, TraversalStats& stats) {
@@ -436,8 +524,9 @@ struct alignas(16) StackEntry {
   uint32_t unused;
 };
 
-// Each level leaves at most 7 siblings on the stack.
-inline constexpr size_t kStackSize = 8 * (kMaxOctreeDepth + 2);
+// Each block leaves at most 15 siblings on the stack, and a block descends at least one
+// octree level.
+inline constexpr size_t kStackSize = WideChildren::kWidth * (kMaxOctreeDepth + 2);
 
 inline void prefetchLine(const void* p) {
 #if defined(__SSE2__)
@@ -450,11 +539,11 @@ inline void prefetchLine(const void* p) {
 // Opens `block`: children holding only lvoxels are noted, leaves are tested at once
 // (nearest first, their disk loads started together so that the misses overlap), and
 // inner children are pushed nearest on top.
-inline void openBlock(const PointCloud& pc, const OctreeChildren& block, const SlabRay& slab,
+inline void openBlock(const PointCloud& pc, const WideChildren& block, const SlabRay& slab,
                       const Ray& ray, NearestDisk& nearest, std::array<StackEntry, kStackSize>& stack,
                       size_t& size, TraversalStats& stats) {
-  alignas(16) float entry[8];
-  std::array<StackEntry, 8> leaves;
+  alignas(32) float entry[WideChildren::kWidth];
+  std::array<StackEntry, WideChildren::kWidth> leaves;
   size_t leafCount = 0;
   const size_t first = size;
   for (uint32_t hits = intersectChildren(block, slab, nearest.bound(), entry); hits;
@@ -491,7 +580,7 @@ inline void openBlock(const PointCloud& pc, const OctreeChildren& block, const S
 template <class Visitor>
 bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, TraversalStats& stats) {
   uint32_t rootEnd;
-  const uint32_t root = pc.childRef(0, rootEnd);
+  const uint32_t root = pc.searchRoot(rootEnd);
   if (!(root & OctreeChildren::kSurfels)) return false;
   float t0, t1;
   if (!pc.nodes()[0].bounds.intersect(ray, t0, t1)) return true;
@@ -508,8 +597,8 @@ bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, Travers
       const StackEntry e = stack[--size];
       if (e.key > nearest.bound()) continue;
       ++stats.nodesPopped;
-      openBlock(pc, pc.childBlocks()[e.ref & OctreeChildren::kIndexMask], slab, ray, nearest,
-                stack, size, stats);
+      openBlock(pc, pc.wideBlocks()[e.ref & WideChildren::kIndexMask], slab, ray, nearest, stack,
+                size, stats);
     }
   }
   if (nearest.lvoxelsInFront() || !nearest.unambiguous()) return false;
