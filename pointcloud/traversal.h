@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -73,9 +74,77 @@ struct TraversalEntry {
   bool operator>(const TraversalEntry& o) const { return key > o.key; }
 };
 
+// The traversal's min-heap: libstdc++'s binary heap (std::push_heap / std::pop_heap with
+// std::greater, as the traversal first used) step for step, so that entries with equal
+// keys still come out in the same order, which decides ties between disks. It moves
+// 8-byte (key, slot) items instead of whole entries (the rest of an entry waits in a
+// side array until it is popped) and picks the smaller child without a branch.
+class TraversalHeap {
+ public:
+  void clear() {
+    items_.clear();
+    entries_.clear();
+  }
+  bool empty() const { return items_.empty(); }
+  void push(const TraversalEntry& e) {
+    items_.push_back({e.key, static_cast<uint32_t>(entries_.size())});
+    entries_.push_back(e);
+    siftUp(static_cast<std::ptrdiff_t>(items_.size()) - 1, 0, items_.back());
+  }
+  TraversalEntry pop() {
+    const auto len = static_cast<std::ptrdiff_t>(items_.size()) - 1;
+    const Item top = items_[0];
+    if (len > 0) {
+      const Item last = items_[static_cast<size_t>(len)];
+      adjust(len, last);  // __pop_heap: the last item refills the hole left at the top
+    }
+    items_.pop_back();
+    return entries_[top.slot];
+  }
+
+ private:
+  struct Item {
+    float key;
+    uint32_t slot;
+  };
+  // std::__push_heap: moves the hole up while the parent's key is greater.
+  void siftUp(std::ptrdiff_t hole, std::ptrdiff_t top, Item value) {
+    Item* h = items_.data();
+    std::ptrdiff_t parent = (hole - 1) / 2;
+    while (hole > top && h[parent].key > value.key) {
+      h[hole] = h[parent];
+      hole = parent;
+      parent = (hole - 1) / 2;
+    }
+    h[hole] = value;
+  }
+  // std::__adjust_heap from the top over the first `len` items: the hole goes down to a
+  // leaf along the smaller children (the left one only if the right one is greater),
+  // then `value` is sifted up from there.
+  void adjust(std::ptrdiff_t len, Item value) {
+    Item* h = items_.data();
+    std::ptrdiff_t hole = 0, second = 0;
+    while (second < (len - 1) / 2) {
+      second = 2 * (second + 1);
+      second -= h[second].key > h[second - 1].key;
+      h[hole] = h[second];
+      hole = second;
+    }
+    if ((len & 1) == 0 && second == (len - 2) / 2) {
+      second = 2 * (second + 1);
+      h[hole] = h[second - 1];
+      hole = second - 1;
+    }
+    siftUp(hole, 0, value);
+  }
+  std::vector<Item> items_;
+  std::vector<TraversalEntry> entries_;
+};
+
 // Reusable heap storage: one per thread (or per gather), never shared between threads.
 struct TraversalScratch {
-  std::vector<TraversalEntry> heap;
+  TraversalHeap queue;
+  std::vector<TraversalEntry> heap;  // the reference traversal's (tests)
   TraversalStats stats;
 };
 
@@ -206,12 +275,24 @@ struct DiskRay {
   }
 };
 
+// Four disk tests: per lane t, the hit point relative to the centre (for the cut test),
+// and bit masks of the hits (before the cut) and of the front sides.
+struct DiskHits4 {
+  alignas(16) float t[4];
+  alignas(16) float q[3][4];
+  uint32_t hits, front;
+  // intersectDisk's cut test on lane `lane`: dot(q, n) > offset, in the same order.
+  bool cutAway(int lane, const DiskClip& c) const {
+    return q[0][lane] * c.normal.x + q[1][lane] * c.normal.y + q[2][lane] * c.normal.z > c.offset;
+  }
+};
+
 // intersectDisk for the 4 disks at d (records past a leaf's end are masked by the caller;
 // the array is padded), lane by lane with the same operations in the same order, so t and
 // the verdicts are bit-identical: dot(a, b) is (ax bx + ay by) + az bz, at(t) - c is
-// (o + dir t) - c. Bit i: disk i is hit before its cut is tested (callers test the cut
-// of the few disks that have one); front bits in `front`.
-inline uint32_t intersectDisks4(const DiskElement* d, const DiskRay& r, float* t, uint32_t& front) {
+// (o + dir t) - c. The cut is left to the caller (DiskHits4::cutAway), for the few disks
+// that have one and could matter.
+inline void intersectDisks4(const DiskElement* d, const DiskRay& r, DiskHits4& out) {
   __m128 px = _mm_loadu_ps(&d[0].position.x), py = _mm_loadu_ps(&d[1].position.x);
   __m128 pz = _mm_loadu_ps(&d[2].position.x), radius = _mm_loadu_ps(&d[3].position.x);
   _MM_TRANSPOSE4_PS(px, py, pz, radius);
@@ -232,18 +313,18 @@ inline uint32_t intersectDisks4(const DiskElement* d, const DiskRay& r, float* t
   __m128 hit = _mm_cmpnlt_ps(absDenom, _mm_set1_ps(1e-12f));  // !(|denom| < 1e-12)
   hit = _mm_and_ps(hit, _mm_and_ps(_mm_cmpgt_ps(tv, r.tmin), _mm_cmplt_ps(tv, r.tmax)));
   hit = _mm_and_ps(hit, _mm_cmpngt_ps(qq, _mm_mul_ps(radius, radius)));  // !(q.q > r r)
-  _mm_storeu_ps(t, tv);
-  front = static_cast<uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(denom, _mm_setzero_ps())));
-  return static_cast<uint32_t>(_mm_movemask_ps(hit));
+  _mm_store_ps(out.t, tv);
+  _mm_store_ps(out.q[0], qx);
+  _mm_store_ps(out.q[1], qy);
+  _mm_store_ps(out.q[2], qz);
+  out.front = static_cast<uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(denom, _mm_setzero_ps())));
+  out.hits = static_cast<uint32_t>(_mm_movemask_ps(hit));
 }
 #endif
 
 // ---- Heap traversal: the reference order ----
 
-inline void pushEntry(std::vector<TraversalEntry>& heap, const TraversalEntry& e) {
-  heap.push_back(e);
-  std::push_heap(heap.begin(), heap.end(), std::greater<>{});
-}
+inline void pushEntry(TraversalHeap& heap, const TraversalEntry& e) { heap.push(e); }
 
 inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOptions& o) {
   const float maxAngle = o.surfels && node.surfelEnd > node.surfelBegin
@@ -256,7 +337,7 @@ inline bool useCluster(const OctreeNode& node, const Ray& ray, const TraversalOp
 }
 
 inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ray& ray,
-                         bool surfels, std::vector<TraversalEntry>& heap) {
+                         bool surfels, TraversalHeap& heap) {
   const OctreeNode& node = pc.nodes()[n];
   if (node.lvoxelEnd > node.lvoxelBegin) {
     const LvoxelCluster& c = pc.lvoxelClusters()[n];
@@ -287,26 +368,23 @@ inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ra
   s.stats.elementsTested += end - begin;
   auto push = [&](uint32_t i, float t, bool front) {
     if (disks[i].flags & (front ? 1u : 2u)) return;
-    s.heap.push_back({t, t, t, i, HitKind::Surfel, front});
-    std::push_heap(s.heap.begin(), s.heap.end(), std::greater<>{});
+    s.queue.push({t, t, t, i, HitKind::Surfel, front});
     ray.tmax = t;  // opaque: everything behind is hidden
   };
 #if defined(__SSE2__)
   for (uint32_t i = begin; i < end; i += 4) {
     const DiskRay r(ray);
-    alignas(16) float t[4];
-    uint32_t front;
-    uint32_t hits = intersectDisks4(disks + i, r, t, front);
+    DiskHits4 h;
+    intersectDisks4(disks + i, r, h);
+    uint32_t hits = h.hits;
     if (end - i < 4) hits &= (1u << (end - i)) - 1u;
     for (; hits; hits &= hits - 1) {
-      const auto lane = static_cast<uint32_t>(std::countr_zero(hits));
-      const uint32_t k = i + lane;
-      float tk;
-      bool fk;
-      if (!(t[lane] < ray.tmax) || ((disks[k].flags & DiskElement::kClipped) &&
-                                    !intersectDisk(ray, disks[k], pc.diskClip(k), tk, fk)))
+      const auto lane = static_cast<int>(std::countr_zero(hits));
+      const uint32_t k = i + static_cast<uint32_t>(lane);
+      if (!(h.t[lane] < ray.tmax) ||
+          ((disks[k].flags & DiskElement::kClipped) && h.cutAway(lane, pc.diskClip(k))))
         continue;
-      push(k, t[lane], (front >> lane) & 1u);
+      push(k, h.t[lane], (h.front >> lane) & 1u);
     }
   }
 #else
@@ -322,14 +400,14 @@ inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ra
     ++s.stats.elementsTested;
     float t0, t1;
     if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1))
-      pushEntry(s.heap, {t0, t0, t1, i, HitKind::Lvoxel, false});
+      pushEntry(s.queue, {t0, t0, t1, i, HitKind::Lvoxel, false});
   }
 }
 
 // Opens an inner node: its children the ray enters, pushed in child order (the order
 // fixes how the heap breaks ties, so it must not change).
 inline void pushChildren(const PointCloud& pc, const TraversalNode& node, const SlabRay& slab,
-                         float tmax, std::vector<TraversalEntry>& heap) {
+                         float tmax, TraversalHeap& heap) {
   const OctreeChildren& block = pc.childBlocks()[node.ref & OctreeChildren::kIndexMask];
   alignas(32) float entry[8];
   for (uint32_t hits = intersectChildren(block, slab, tmax, entry); hits; hits &= hits - 1) {
@@ -355,7 +433,7 @@ template <class Visitor>
 void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOptions& options,
                   TraversalScratch& scratch) {
   ++scratch.stats.heapRays;
-  auto& heap = scratch.heap;
+  TraversalHeap& heap = scratch.queue;
   heap.clear();
   const std::vector<OctreeNode>& nodes = pc.nodes();
   const TraversalNode* tnodes = pc.traversalNodes().data();
@@ -365,9 +443,7 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
   const ClusterAngles clusters(options);
   pushEntry(heap, {t0, t0, t1, 0, HitKind::Node, false});
   while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), std::greater<>{});
-    const TraversalEntry e = heap.back();
-    heap.pop_back();
+    const TraversalEntry e = heap.pop();
     if (e.key > ray.tmax) break;
     switch (e.kind) {
       case HitKind::Node: {
@@ -482,35 +558,34 @@ inline void testLeafDisks(const PointCloud& pc, uint32_t begin, uint32_t end, fl
                           const Ray& ray, NearestDisk& nearest, TraversalStats& stats) {
   const DiskElement* disks = pc.disks().data();
   stats.elementsTested += end - begin;
-  auto offer = [&](uint32_t i, float t, bool front) {
-    if (disks[i].flags & (front ? 1u : 2u)) return;  // an enclosed side: passed
-    const float f = std::max(key, t);
-    if (f <= nearest.bound()) nearest.offer({f, t, key, begin, i, front});
-  };
 #if defined(__SSE2__)
   const DiskRay r(ray);
   for (uint32_t i = begin; i < end; i += 4) {
-    alignas(16) float t[4];
-    uint32_t front;
-    uint32_t hits = intersectDisks4(disks + i, r, t, front);
+    DiskHits4 h;
+    intersectDisks4(disks + i, r, h);
+    uint32_t hits = h.hits;
     if (end - i < 4) hits &= (1u << (end - i)) - 1u;
     for (; hits; hits &= hits - 1) {
-      const auto lane = static_cast<uint32_t>(std::countr_zero(hits));
-      const uint32_t k = i + lane;
-      float tk;
-      bool fk;
-      // A cut disk: the scalar test, which also tests the cut (same t, same verdict).
-      if ((disks[k].flags & DiskElement::kClipped) &&
-          !intersectDisk(ray, disks[k], pc.diskClip(k), tk, fk))
+      const auto lane = static_cast<int>(std::countr_zero(hits));
+      const uint32_t k = i + static_cast<uint32_t>(lane);
+      const bool front = (h.front >> lane) & 1u;
+      const float f = std::max(key, h.t[lane]);
+      // An enclosed side is passed; the cut (a separate array) is read last.
+      if ((disks[k].flags & (front ? 1u : 2u)) || f > nearest.bound() ||
+          ((disks[k].flags & DiskElement::kClipped) && h.cutAway(lane, pc.diskClip(k))))
         continue;
-      offer(k, t[lane], (front >> lane) & 1u);
+      nearest.offer({f, h.t[lane], key, begin, k, front});
     }
   }
 #else
   for (uint32_t i = begin; i < end; ++i) {
     float t;
     bool front;
-    if (intersectDisk(ray, disks[i], pc.diskClip(i), t, front)) offer(i, t, front);
+    if (!intersectDisk(ray, disks[i], pc.diskClip(i), t, front) ||
+        (disks[i].flags & (front ? 1u : 2u)))
+      continue;
+    const float f = std::max(key, t);
+    if (f <= nearest.bound()) nearest.offer({f, t, key, begin, i, front});
   }
 #endif
 }
@@ -528,11 +603,15 @@ struct alignas(16) StackEntry {
 // octree level.
 inline constexpr size_t kStackSize = WideChildren::kWidth * (kMaxOctreeDepth + 2);
 
-inline void prefetchLine(const void* p) {
+// Starts loading a leaf's disks (up to 8), so that the misses of a block's leaves overlap.
+inline void prefetchDisks(const DiskElement* d, uint32_t count) {
 #if defined(__SSE2__)
-  _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0);
+  const char* first = reinterpret_cast<const char*>(d);
+  const char* last = reinterpret_cast<const char*>(d + std::min(count, 8u)) - 1;
+  for (const char* p = first; p <= last; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+  _mm_prefetch(last, _MM_HINT_T0);
 #else
-  (void)p;
+  (void)d, (void)count;
 #endif
 }
 
@@ -556,7 +635,8 @@ inline void openBlock(const PointCloud& pc, const WideChildren& block, const Sla
     }
     const StackEntry e{entry[c], ref, block.surfelEnd[c], 0};
     if (ref & OctreeChildren::kLeaf) {
-      prefetchLine(pc.disks().data() + (ref & OctreeChildren::kIndexMask));
+      prefetchDisks(pc.disks().data() + (ref & OctreeChildren::kIndexMask),
+                    block.surfelEnd[c] - (ref & OctreeChildren::kIndexMask));
       size_t j = leafCount++;
       for (; j > 0 && leaves[j - 1].key > e.key; --j) leaves[j] = leaves[j - 1];
       leaves[j] = e;
