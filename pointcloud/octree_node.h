@@ -21,9 +21,9 @@ struct OctreeNode {
 // The traversal's view of an inner node's children (traversal.h): their loose bounds as
 // a structure of arrays, so that one SIMD slab test covers four children, and what each
 // child holds, so that a leaf's disks are found without loading the leaf. W = 8 lanes
-// (256 bytes) hold one octree node's children, for the heap; W = 16 (512 bytes) hold up
-// to 16 of its descendants, for the nearest-disk search, which then goes two octree
-// levels per block where surfaces split in four.
+// (256 bytes) hold one octree node's children, for the heap traversal; W = 16 (512 bytes)
+// hold up to 16 of its descendants, for the nearest-disk search, which then goes two
+// octree levels per block where surfaces split in four.
 template <int W>
 struct alignas(64) ChildBlock {
   static constexpr int kWidth = W;

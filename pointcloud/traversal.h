@@ -12,12 +12,13 @@
 //
 // Speed (docs/pointcloud.md, "Traversal speed"). Most gather rays only want the first
 // disk. For them `traverse` first runs a depth-first search with a small stack (children
-// nearest first, 4-wide slab tests on OctreeChildren) that finds the disk the heap would
-// visit, and falls back to the heap only when the heap's own order could matter: lvoxels
-// in front, or two disks in different leaves tied exactly (see nearestDisk below). Both
-// paths compute every key with the same float operations, so the visits are bit-identical
-// to the heap's (tests/pointcloud/test_traversal_exact.cpp checks it against the original
-// heap traversal).
+// nearest first, SIMD slab tests on blocks of up to 16 descendants, WideChildren) that
+// finds the disk the heap would visit, and falls back to the heap only when the heap's
+// own order could matter: lvoxels in front, or two disks in different leaves tied exactly
+// (see nearestDisk below). Both paths compute every key and hit distance with the same
+// float operations as the original one-box, one-disk tests, so the visits are
+// bit-identical to the original heap traversal's (tests/pointcloud/
+// test_traversal_exact.cpp keeps that traversal and compares on random and lattice rays).
 //
 // Visitor interface (no virtual calls):
 //   void surfel(uint32_t i, float t, bool front);       // opaque, ends traversal
@@ -29,7 +30,6 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -663,7 +663,10 @@ bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, Travers
   const uint32_t root = pc.searchRoot(rootEnd);
   if (!(root & OctreeChildren::kSurfels)) return false;
   float t0, t1;
-  if (!pc.nodes()[0].bounds.intersect(ray, t0, t1)) return true;
+  if (!pc.nodes()[0].bounds.intersect(ray, t0, t1)) {
+    ++stats.nearestDiskRays;  // misses the cloud
+    return true;
+  }
   const SlabRay slab(ray);
   NearestDisk nearest(ray.tmax);
   if (root & OctreeChildren::kLeaf) {
@@ -673,7 +676,9 @@ bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, Travers
     std::array<StackEntry, kStackSize> stack;
     size_t size = 0;
     stack[size++] = {t0, root, rootEnd, 0};
-    while (size > 0) {
+    // Lvoxels before any disk: the heap will almost surely be needed, so stop searching
+    // (lvoxelsInFront() below then holds; stopping early never changes an answer).
+    while (size > 0 && !(nearest.lvoxels && !nearest.found)) {
       const StackEntry e = stack[--size];
       if (e.key > nearest.bound()) continue;
       ++stats.nodesPopped;

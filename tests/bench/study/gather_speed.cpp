@@ -12,6 +12,8 @@
 //   surfel gathers (lvoxels)  the octree part of ray-traced visibility: lvoxels only
 //                             (TraversalOptions::surfels = false) up to Embree's hit
 //   lvoxel gathers (disks)    sphere rays from lvoxel centres, as the lvoxel gathers
+// Columns: rays/s of each (millions), their ratio, traversal work per ray (nodes popped +
+// elements tested), the share of rays the exact heap traversal took (see traversal.h).
 // Embree traces each workload's rays with RayTracer::intersect (rtcIntersect1). Times are
 // the best of --reps runs, octree and Embree interleaved so that load from other
 // processes hits both alike; one thread is timed by its CPU clock, more threads by the
@@ -251,10 +253,11 @@ void runScene(const std::string& path, const Args& args) {
   }
 
   std::printf("\n%s: %zu triangles, %zu surfels (spacing %.4g), %zu lvoxels, %zu nodes, "
-              "cloud built in %.2f s\n",
+              "cloud built in %.2f s, traversal layout %.1f MB of %.1f MB\n",
               std::filesystem::path(path).filename().c_str(), scene.mesh.triangleCount(),
               cloud.surfels().size(), spacing, cloud.lvoxels().size(), cloud.nodes().size(),
-              buildSeconds);
+              buildSeconds, static_cast<double>(cloud.traversalBytes()) * 1e-6,
+              static_cast<double>(cloud.memoryBytes()) * 1e-6);
   std::printf("%-26s %7s %8s %14s %14s %7s %9s %6s  %s\n", "workload", "threads", "rays",
               "octree Mrays/s", "embree Mrays/s", "ratio", "work/ray", "heap", "checksum");
   for (const Workload& w : workloads)
