@@ -18,6 +18,37 @@ struct OctreeNode {
   uint32_t elementCount() const { return surfelEnd - surfelBegin + lvoxelEnd - lvoxelBegin; }
 };
 
+// The traversal's view of an inner node's children (traversal.h): their loose bounds as
+// a structure of arrays, so that one SIMD slab test covers four children, and what each
+// child holds, so that a leaf's disks are found without loading the leaf. W = 8 lanes
+// (256 bytes) hold one octree node's children, for the heap traversal; W = 16 (512 bytes)
+// hold up to 16 of its descendants, for the nearest-disk search, which then goes two
+// octree levels per block where surfaces split in four.
+template <int W>
+struct alignas(64) ChildBlock {
+  static constexpr int kWidth = W;
+  static constexpr uint32_t kLeaf = 1u << 31;     // the child is a leaf ...
+  static constexpr uint32_t kSurfels = 1u << 30;  // ... it holds surfels ...
+  static constexpr uint32_t kLvoxels = 1u << 29;  // ... and/or lvoxels
+  static constexpr uint32_t kIndexMask = kLvoxels - 1;
+  float lo[3][W];  // [axis][child]
+  float hi[3][W];
+  // Flags | index: a leaf's first surfel, an inner node's block index; 0 for an unused
+  // lane (every child holds something, so a used lane has a flag set).
+  uint32_t ref[W];
+  uint32_t surfelEnd[W];  // leaves: one past the last surfel
+};
+using OctreeChildren = ChildBlock<8>;
+using WideChildren = ChildBlock<16>;
+
+// A node as the heap traversal opens it, 16 bytes instead of OctreeNode's 48.
+struct TraversalNode {
+  uint32_t ref = 0;        // OctreeChildren::ref encoding: flags | first surfel or block index
+  uint32_t surfelEnd = 0;  // leaves
+  uint32_t first = 0;      // inner nodes: first child's node index; leaves: first lvoxel
+  uint32_t lvoxelEnd = 0;  // leaves
+};
+
 // A node's surfels seen from far away, without spherical harmonics: a partly covering box.
 // `cover` is the union of squares of side 2 sqrt(area) around the surfels (tilted like
 // the disks; twice the equal-area side so they reach the cell walls between lattice

@@ -12,6 +12,9 @@
 
 namespace lvox {
 
+// Deepest possible leaf (21 Morton bits per axis), whatever OctreeSettings::maxDepth says.
+inline constexpr uint32_t kMaxOctreeDepth = 21;
+
 struct OctreeSettings {
   uint32_t leafSize = 8;   // a node with more elements is split ...
   uint32_t maxDepth = 20;  // ... unless it is this deep (coincident points)
@@ -39,6 +42,21 @@ class PointCloud {
   const std::vector<SurfelCluster>& surfelClusters() const { return surfelClusters_; }
   const std::vector<LvoxelCluster>& lvoxelClusters() const { return lvoxelClusters_; }
   bool empty() const { return nodes_.empty(); }
+
+  // The traversal's layout (traversal.h), built with the octree from the elements'
+  // geometry, which must not change afterwards: per inner node its children's bounds as
+  // SIMD-ready arrays (8 lanes for the heap, up to 16 descendants for the nearest-disk
+  // search), per node its block, and the disks and cubes packed in octree order.
+  const std::vector<OctreeChildren>& childBlocks() const { return childBlocks_; }
+  const std::vector<WideChildren>& wideBlocks() const { return wideBlocks_; }
+  const std::vector<TraversalNode>& traversalNodes() const { return traversalNodes_; }
+  const std::vector<DiskElement>& disks() const { return disks_; }
+  const DiskClip& diskClip(uint32_t surfel) const { return surfels_.clip[surfel]; }
+  const std::vector<CubeElement>& cubes() const { return cubes_; }
+  // The root as the nearest-disk search starts from it (a WideChildren reference).
+  uint32_t searchRoot(uint32_t& surfelEnd) const;
+  // True while the layout's child bounds equal the nodes' (tests: updates keep them).
+  bool traversalLayoutMatchesNodes() const;
   // Depth of the deepest leaf (root = 0).
   uint32_t depth() const { return empty() ? 0 : static_cast<uint32_t>(levelBegin_.size()) - 2; }
 
@@ -47,6 +65,8 @@ class PointCloud {
 
   PointCloudMemory memory() const;
   size_t memoryBytes() const { return memory().total(); }
+  // The traversal layout's share of memory().octreeBytes.
+  size_t traversalBytes() const;
   static constexpr size_t bytesPerNode() {
     return sizeof(OctreeNode) + sizeof(Bounds3) + sizeof(SurfelCluster) + sizeof(LvoxelCluster);
   }
@@ -54,6 +74,7 @@ class PointCloud {
  private:
   void build(const OctreeSettings& settings);
   void computeBounds();
+  void buildTraversalLayout();
 
   SurfelSet surfels_;
   LvoxelSet lvoxels_;
@@ -62,6 +83,11 @@ class PointCloud {
   std::vector<uint32_t> levelBegin_;  // nodes of depth d are [levelBegin_[d], levelBegin_[d+1])
   std::vector<SurfelCluster> surfelClusters_;
   std::vector<LvoxelCluster> lvoxelClusters_;
+  std::vector<OctreeChildren> childBlocks_;
+  std::vector<WideChildren> wideBlocks_;
+  std::vector<TraversalNode> traversalNodes_;
+  std::vector<DiskElement> disks_;
+  std::vector<CubeElement> cubes_;
 };
 
 }  // namespace lvox

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
+#include <stdexcept>
 
 #include "pointcloud/element_bounds.h"
 #include "pointcloud/point_cloud.h"
@@ -13,7 +15,7 @@ namespace lvox {
 
 namespace {
 
-constexpr uint32_t kMortonBits = 21;  // per axis; 63-bit codes
+constexpr uint32_t kMortonBits = kMaxOctreeDepth;  // per axis; 63-bit codes
 constexpr uint32_t kMaxDepth = kMortonBits;
 
 uint64_t spreadBits(uint32_t v) {
@@ -76,13 +78,109 @@ Bounds3 childCell(const Bounds3& parent, uint32_t octant) {
   return c;
 }
 
+uint32_t childFlags(const OctreeNode& node) {
+  return (node.isLeaf() ? OctreeChildren::kLeaf : 0u) |
+         (node.surfelEnd > node.surfelBegin ? OctreeChildren::kSurfels : 0u) |
+         (node.lvoxelEnd > node.lvoxelBegin ? OctreeChildren::kLvoxels : 0u);
+}
+
+float surfaceArea(const Bounds3& b) {
+  const Vec3 d = b.diagonal();
+  return d.x * d.y + d.y * d.z + d.z * d.x;
+}
+
+// The lanes of node n's wide block: its children, then, while they fit, the inner lane
+// with surfels and the largest surface area replaced by its children (the likeliest to
+// be opened by a ray). Lanes that hold lvoxels only are never opened by the search.
+std::vector<uint32_t> wideLanes(const std::vector<OctreeNode>& nodes, uint32_t n) {
+  std::vector<uint32_t> lanes;
+  for (uint32_t c = 0; c < nodes[n].childCount; ++c) lanes.push_back(nodes[n].childBegin + c);
+  for (;;) {
+    size_t open = lanes.size();
+    float largest = -1.0f;
+    for (size_t l = 0; l < lanes.size(); ++l) {
+      const OctreeNode& node = nodes[lanes[l]];
+      if (node.isLeaf() || node.surfelEnd == node.surfelBegin ||
+          lanes.size() - 1 + node.childCount > WideChildren::kWidth)
+        continue;
+      if (surfaceArea(node.bounds) > largest) {
+        largest = surfaceArea(node.bounds);
+        open = l;
+      }
+    }
+    if (open == lanes.size()) return lanes;
+    const OctreeNode& node = nodes[lanes[open]];
+    lanes.erase(lanes.begin() + static_cast<std::ptrdiff_t>(open));
+    for (uint32_t c = 0; c < node.childCount; ++c) lanes.push_back(node.childBegin + c);
+  }
+}
+
+// Appends the wide block of inner node n and, depth first, those of its inner lanes with
+// surfels; returns n's block index.
+uint32_t buildWideBlocks(const std::vector<OctreeNode>& nodes, uint32_t n,
+                         std::vector<WideChildren>& blocks) {
+  const std::vector<uint32_t> lanes = wideLanes(nodes, n);
+  const auto index = static_cast<uint32_t>(blocks.size());
+  blocks.emplace_back();
+  for (uint32_t c = 0; c < WideChildren::kWidth; ++c) {
+    const bool used = c < lanes.size();
+    const Bounds3 box = used ? nodes[lanes[c]].bounds : Bounds3{};
+    uint32_t ref = 0, surfelEnd = 0;
+    if (used) {
+      const OctreeNode& node = nodes[lanes[c]];
+      ref = childFlags(node);
+      surfelEnd = node.surfelEnd;
+      if (node.isLeaf())
+        ref |= node.surfelBegin;
+      else if (node.surfelEnd > node.surfelBegin)
+        ref |= buildWideBlocks(nodes, lanes[c], blocks);
+    }
+    WideChildren& b = blocks[index];  // after the recursion, which may reallocate
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a][c] = box.lo[a];
+      b.hi[a][c] = box.hi[a];
+    }
+    b.ref[c] = ref;
+    b.surfelEnd[c] = surfelEnd;
+  }
+  return index;
+}
+
 }  // namespace
 
 PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings)
     : surfels_(std::move(surfels)), lvoxels_(std::move(lvoxels)) {
   build(settings);
   computeBounds();
+  // The aggregates grow the node bounds to hold the cluster proxies; a node's own lvoxel
+  // cube is the one of the previous update, so the bounds (geometry only) are final after
+  // the second update, and the traversal layout copies them then. Renders always updated
+  // twice before tracing (cacheDirectLight updates again), so their bounds are unchanged.
   updateAggregates();
+  updateAggregates();
+  buildTraversalLayout();
+}
+
+bool PointCloud::traversalLayoutMatchesNodes() const {
+  std::vector<WideChildren> wide;
+  if (!nodes_.empty() && !nodes_[0].isLeaf()) buildWideBlocks(nodes_, 0, wide);
+  if (wide.size() != wideBlocks_.size() ||
+      !std::equal(wide.begin(), wide.end(), wideBlocks_.begin(),
+                  [](const WideChildren& a, const WideChildren& b) {
+                    return std::memcmp(&a, &b, sizeof(WideChildren)) == 0;
+                  }))
+    return false;
+  for (uint32_t i = 0; i < nodes_.size(); ++i) {
+    const OctreeNode& node = nodes_[i];
+    if (node.isLeaf()) continue;
+    const OctreeChildren& b = childBlocks_[traversalNodes_[i].ref & OctreeChildren::kIndexMask];
+    for (uint32_t c = 0; c < node.childCount; ++c) {
+      const Bounds3& box = nodes_[node.childBegin + c].bounds;
+      for (int a = 0; a < 3; ++a)
+        if (b.lo[a][c] != box.lo[a] || b.hi[a][c] != box.hi[a]) return false;
+    }
+  }
+  return true;
 }
 
 void PointCloud::build(const OctreeSettings& settings) {
@@ -185,12 +283,71 @@ void PointCloud::computeBounds() {
   }
 }
 
+void PointCloud::buildTraversalLayout() {
+  const auto n = static_cast<uint32_t>(nodes_.size());
+  if (n > OctreeChildren::kIndexMask || surfels_.size() > OctreeChildren::kIndexMask)
+    throw std::length_error("point cloud: too many nodes or surfels for the traversal layout");
+  traversalNodes_.assign(n, TraversalNode{});
+  if (n == 0) return;
+  uint32_t blocks = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const OctreeNode& node = nodes_[i];
+    TraversalNode& t = traversalNodes_[i];
+    t.ref = childFlags(node) | (node.isLeaf() ? node.surfelBegin : blocks++);
+    t.surfelEnd = node.surfelEnd;
+    t.first = node.isLeaf() ? node.lvoxelBegin : node.childBegin;
+    t.lvoxelEnd = node.lvoxelEnd;
+  }
+  childBlocks_.assign(blocks, OctreeChildren{});
+  tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {
+    const OctreeNode& node = nodes_[i];
+    if (node.isLeaf()) return;
+    OctreeChildren& b = childBlocks_[traversalNodes_[i].ref & OctreeChildren::kIndexMask];
+    for (uint32_t c = 0; c < 8; ++c) {
+      // Unused lanes have ref 0, which masks them; give them an empty box all the same.
+      const Bounds3 box = c < node.childCount ? nodes_[node.childBegin + c].bounds : Bounds3{};
+      for (int a = 0; a < 3; ++a) {
+        b.lo[a][c] = box.lo[a];
+        b.hi[a][c] = box.hi[a];
+      }
+      const TraversalNode used = c < node.childCount ? traversalNodes_[node.childBegin + c]
+                                                     : TraversalNode{};
+      b.ref[c] = used.ref;
+      b.surfelEnd[c] = used.surfelEnd;
+    }
+  });
+  wideBlocks_.clear();
+  if (!nodes_[0].isLeaf()) buildWideBlocks(nodes_, 0, wideBlocks_);
+  // Three empty records past the end: 4-wide tests may read up to 3 disks past a leaf.
+  disks_.assign(surfels_.size() + (surfels_.size() > 0 ? 3 : 0), DiskElement{});
+  tbb::parallel_for(size_t(0), surfels_.size(), [&](size_t i) {
+    const uint32_t clipped = DiskElement::cuts(surfels_.clip[i]) ? DiskElement::kClipped : 0u;
+    disks_[i] = {surfels_.position[i], surfels_.radius[i], surfels_.normal[i],
+                 (surfels_.enclosedSides[i] & 3u) | clipped};
+  });
+  cubes_.resize(lvoxels_.size());
+  for (size_t i = 0; i < lvoxels_.size(); ++i) cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
+}
+
+uint32_t PointCloud::searchRoot(uint32_t& surfelEnd) const {
+  const OctreeNode& root = nodes_[0];
+  surfelEnd = root.surfelEnd;
+  return childFlags(root) | (root.isLeaf() ? root.surfelBegin : 0u);  // block 0 is the root's
+}
+
 PointCloudMemory PointCloud::memory() const {
   PointCloudMemory m;
   m.surfelBytes = surfels_.memoryBytes();
   m.lvoxelBytes = lvoxels_.memoryBytes();
-  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t);
+  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t) +
+                  traversalBytes();
   return m;
+}
+
+size_t PointCloud::traversalBytes() const {
+  return childBlocks_.size() * sizeof(OctreeChildren) +
+         wideBlocks_.size() * sizeof(WideChildren) + traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
+         cubes_.size() * sizeof(CubeElement);
 }
 
 }  // namespace lvox

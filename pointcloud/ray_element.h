@@ -1,6 +1,7 @@
 #pragma once
 // Ray tests against single point-cloud elements and cluster proxies.
 #include <algorithm>
+#include <cstdint>
 
 #include "src/core/math.h"
 
@@ -27,6 +28,38 @@ inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r,
   return true;
 }
 
+// A surfel's disk as the traversal tests it: 32 bytes per surfel in octree order, so a
+// leaf's disks are adjacent in memory (the SurfelSet keeps them in five arrays). The cut
+// is read from a side array, and only for disks that have one.
+struct DiskElement {
+  static constexpr uint32_t kClipped = 4;  // flags: bits 0-1 are the enclosed sides
+  Vec3 position;
+  float radius = 0.0f;
+  Vec3 normal;
+  uint32_t flags = 0;
+
+  // A cut with a zero normal and offset >= 0 never removes anything (dot(d, 0) > offset
+  // is false for every d, NaN included), so testing it can be skipped.
+  static bool cuts(const DiskClip& c) {
+    return !(c.normal.x == 0.0f && c.normal.y == 0.0f && c.normal.z == 0.0f && c.offset >= 0.0f);
+  }
+};
+
+// intersectDisk on the packed record: the same operations in the same order, so t and
+// the verdict are bit-identical.
+inline bool intersectDisk(const Ray& ray, const DiskElement& d, const DiskClip& clip, float& t,
+                          bool& front) {
+  const float denom = dot(d.normal, ray.dir);
+  if (std::abs(denom) < 1e-12f) return false;
+  t = dot(d.position - ray.origin, d.normal) / denom;
+  if (!(t > ray.tmin && t < ray.tmax)) return false;
+  const Vec3 p = ray.at(t) - d.position;
+  if (dot(p, p) > d.radius * d.radius) return false;
+  if ((d.flags & DiskElement::kClipped) && dot(p, clip.normal) > clip.offset) return false;
+  front = denom < 0.0f;
+  return true;
+}
+
 // Chord [t0, t1] of the ray inside the cube centre +- h, clipped to [tmin, tmax]. A ray
 // parallel to a face and lying exactly in it belongs to the cube on the + side only
 // (half-open), so rays along grid planes are not counted in two neighbouring lvoxels.
@@ -47,5 +80,11 @@ inline bool intersectCube(const Ray& ray, const Vec3& c, float h, float& t0, flo
   }
   return t1 > t0;
 }
+
+// An lvoxel's cube packed for the traversal (LvoxelSet keeps centre and size apart).
+struct CubeElement {
+  Vec3 centre;
+  float halfSize = 0.0f;
+};
 
 }  // namespace lvox
