@@ -324,7 +324,9 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand(
       "sweep", "Render a scene over solvers x steps/tolerances; CSV and plots of error vs cost");
   cmd->add_option("scene", f->scene, "Scene file (JSON)")->required();
-  cmd->add_option("-o,--output", f->outDir, "Existing directory for sweep.csv and sweep.png")
+  cmd->add_option(
+         "-o,--output", f->outDir,
+         "Existing directory for sweep.csv, sweep.png, report.html, reference.exr and points/")
       ->required();
   cmd->add_option("--methods", f->methods,
                   "Comma-separated: auto, any solver name, mc (Monte Carlo, with --mc-spp)")
@@ -347,7 +349,9 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
   cmd->add_option(flags::kHeight.flag, f->height, "Image height");
   cmd->add_option(flags::kSpp.flag, f->spp, "Samples per pixel of the solver renders");
   cmd->add_option(flags::kThreads.flag, f->threads, "Worker threads (0: all cores)");
-  cmd->add_flag("!--no-plot", f->plot, "Write only the CSV");
+  cmd->add_flag(
+      "!--no-plot", f->plot,
+      "No matplotlib plot (sweep.png); the CSV, images and report.html are still written");
   cmd->add_flag("-q,--quiet", f->quiet, "No progress lines");
   cmd->callback([f, &exitCode]() { exitCode = runSweep(*f); });
 }
