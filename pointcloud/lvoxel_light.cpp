@@ -64,10 +64,10 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
     const int32_t s = slotOfCell_[grid_.index(c[0], c[1], c[2])];
     if (s < 0) continue;
     const auto slot = static_cast<size_t>(s);
-    const RGB* tr = &transmittance_[slot * deltaLights_];
+    const RGB* tr = transmittance_.data() + slot * deltaLights_;
     for (size_t k = 0; k < deltaLights_; ++k) out.transmittance[k] += tr[k] * w;
     out.multiScatter += multiScatter_[slot] * w;
-    const RGB* camera = &towardsCamera_[slot * phases_];
+    const RGB* camera = towardsCamera_.data() + slot * phases_;
     for (size_t m = 0; m < phases_; ++m) out.towardsCamera[m] += camera[m] * w;
     weightSum += w;
   }

@@ -45,9 +45,12 @@ class LvoxelLight {
   void setChannels(size_t deltaLights, size_t phases);
   size_t deltaLights() const { return deltaLights_; }
   size_t phases() const { return phases_; }
-  RGB* transmittance(uint32_t slot) { return &transmittance_[slot * deltaLights_]; }
-  const RGB* transmittance(uint32_t slot) const { return &transmittance_[slot * deltaLights_]; }
-  RGB* towardsCamera(uint32_t slot) { return &towardsCamera_[slot * phases_]; }
+  // data() + offset, not &v[offset]: with no delta lights the array is empty.
+  RGB* transmittance(uint32_t slot) { return transmittance_.data() + slot * deltaLights_; }
+  const RGB* transmittance(uint32_t slot) const {
+    return transmittance_.data() + slot * deltaLights_;
+  }
+  RGB* towardsCamera(uint32_t slot) { return towardsCamera_.data() + slot * phases_; }
   // The isotropic in-scatter of the area lights and the environment (their integral of
   // L dw over 4 pi), for the cloud's phase-averaged cache.
   RGB& areaInScatter(uint32_t slot) { return areaInScatter_[slot]; }

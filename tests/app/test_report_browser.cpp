@@ -232,7 +232,9 @@ TEST(ReportBrowser, SelfTestInHeadlessChromium) {
   EXPECT_EQ(sweep["plots"][1]["front"], in.frontEvals);
   EXPECT_EQ(sweep["plots"][0]["bold"], in.autoRows);
   const std::string tooltip = sweep["plots"][0]["tooltip"];
-  for (const char* word : {"euler", "step = 0.2", "time", "evaluations", "delta"})
+  // The first point drawn of euler's series: which of its steps comes first depends on the
+  // measured times (the x axis), so only the parameter's name is fixed.
+  for (const char* word : {"euler", "step = 0.", "time", "evaluations", "delta"})
     EXPECT_NE(tooltip.find(word), std::string::npos) << word << " not in " << tooltip;
   EXPECT_EQ(sweep["thumbs"], 1 + 2 * in.sweepRows);  // reference, then image + error map
   EXPECT_GT(sweep["thumbColours"][0].get<int>(), 4);
