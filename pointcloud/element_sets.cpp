@@ -1,8 +1,8 @@
 #include <algorithm>
-#include <stdexcept>
 
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/surfels.h"
+#include "src/core/check.h"
 
 namespace lvox {
 
@@ -54,8 +54,8 @@ void LvoxelSet::append(const LvoxelSet& other) {
   if (size() == 0 && light.occupiedCount() == 0) {
     light = LvoxelLight(other.light.grid());
     light.setChannels(other.light.deltaLights(), other.light.phases());
-  } else if (!(light.grid() == other.light.grid())) {
-    throw std::logic_error("appending lvoxels of another grid");
+  } else {
+    LVOX_CHECK(light.grid() == other.light.grid(), "appending lvoxels of another grid");
   }
   auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
   cat(position, other.position);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "pointcloud/gather.h"
+#include "src/core/check.h"
 
 namespace lvox {
 
@@ -57,6 +58,7 @@ struct GatherRecorder {
   void lvoxelCluster(uint32_t n, const RGB& w) { add(columns.lvoxelCluster(n), w); }
   void addBackground(const RGB& w) { add(columns.background(), w); }
   void add(uint32_t column, const RGB& w) {
+    LVOX_DCHECK(column < columns.size(), "gather column out of range");
     if (maxComponent(w) > 0.0f) entries.push_back({column, w});
   }
 };

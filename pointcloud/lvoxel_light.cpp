@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+
+#include "src/core/check.h"
 
 namespace lvox {
 
 uint32_t LvoxelLight::occupy(long cell) {
-  if (cell < 0 || static_cast<double>(cell) >= grid_.cellCount())
-    throw std::logic_error("lvoxel cell outside its own grid");
+  LVOX_CHECK(cell >= 0 && static_cast<double>(cell) < grid_.cellCount(),
+             "lvoxel cell outside its own grid");
   if (slotOfCell_.empty()) slotOfCell_.assign(static_cast<size_t>(grid_.cellCount()), -1);
   int32_t& s = slotOfCell_[static_cast<size_t>(cell)];
   if (s < 0) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pointcloud/lvoxel_grid.h"
+#include "src/core/check.h"
 
 namespace lvox {
 
@@ -46,8 +47,12 @@ class LvoxelLight {
   size_t deltaLights() const { return deltaLights_; }
   size_t phases() const { return phases_; }
   // data() + offset, not &v[offset]: with no delta lights the array is empty.
-  RGB* transmittance(uint32_t slot) { return transmittance_.data() + slot * deltaLights_; }
+  RGB* transmittance(uint32_t slot) {
+    LVOX_DCHECK(slot < cell_.size(), "lvoxel light slot out of range");
+    return transmittance_.data() + slot * deltaLights_;
+  }
   const RGB* transmittance(uint32_t slot) const {
+    LVOX_DCHECK(slot < cell_.size(), "lvoxel light slot out of range");
     return transmittance_.data() + slot * deltaLights_;
   }
   RGB* towardsCamera(uint32_t slot) { return towardsCamera_.data() + slot * phases_; }

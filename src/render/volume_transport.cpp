@@ -1,7 +1,8 @@
 #include "src/render/volume_transport.h"
 
 #include <cmath>
-#include <stdexcept>
+
+#include "src/core/check.h"
 
 namespace lvox {
 namespace {
@@ -41,7 +42,7 @@ VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media
   }
   if (!v.solver) auto_.emplace(ctx.world.lights, media, base_);
   // The scene loader refuses more media; MediaSet users index fixed arrays of this size.
-  if (media.size() > kMaxMedia) throw std::logic_error("more media than kMaxMedia");
+  LVOX_CHECK(media.size() <= kMaxMedia, "more media than kMaxMedia");
 }
 
 rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float t0, float t1,
