@@ -28,44 +28,79 @@ std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
 }
 
 // Rays of one gather often reach the same element: one entry per column.
-void GatherOperator::appendMerged(std::vector<GatherEntry>& row, Block& block) {
+void GatherOperator::appendMerged(std::vector<GatherEntry>& row, std::vector<GatherEntry>& entries,
+                                  std::vector<uint32_t>& rowEnd) {
   std::sort(row.begin(), row.end(),
             [](const GatherEntry& a, const GatherEntry& b) { return a.column < b.column; });
+  const size_t rowBegin = entries.size();
   for (const GatherEntry& e : row) {
-    const size_t rowBegin = block.rowEnd.empty() ? 0 : block.rowEnd.back();
-    if (block.entries.size() > rowBegin && block.entries.back().column == e.column)
-      block.entries.back().weight += e.weight;
+    if (entries.size() > rowBegin && entries.back().column == e.column)
+      entries.back().weight += e.weight;
     else
-      block.entries.push_back(e);
+      entries.push_back(e);
   }
-  block.rowEnd.push_back(static_cast<uint32_t>(block.entries.size()));
+  rowEnd.push_back(static_cast<uint32_t>(entries.size()));
+}
+
+void GatherOperator::store(const std::vector<GatherEntry>& entries, Block& block) {
+  const bool grey = std::all_of(entries.begin(), entries.end(), [](const GatherEntry& e) {
+    return e.weight.x == e.weight.y && e.weight.x == e.weight.z;
+  });
+  block.column.resize(entries.size());
+  if (grey)
+    block.greyWeight.resize(entries.size());
+  else
+    block.colourWeight.resize(entries.size());
+  for (size_t e = 0; e < entries.size(); ++e) {
+    block.column[e] = entries[e].column;
+    if (grey)
+      block.greyWeight[e] = entries[e].weight.x;
+    else
+      block.colourWeight[e] = entries[e].weight;
+  }
+  block.rowEnd.shrink_to_fit();
 }
 
 size_t GatherOperator::entries() const {
   size_t n = 0;
-  for (const Block& b : blocks_) n += b.entries.size();
+  for (const Block& b : blocks_) n += b.column.size();
   return n;
 }
 
 size_t GatherOperator::memoryBytes() const {
   size_t bytes = 0;
   for (const Block& b : blocks_)
-    bytes += b.entries.capacity() * sizeof(GatherEntry) + b.rowEnd.capacity() * sizeof(uint32_t);
+    bytes += b.column.capacity() * sizeof(uint32_t) + b.greyWeight.capacity() * sizeof(float) +
+             b.colourWeight.capacity() * sizeof(RGB) + b.rowEnd.capacity() * sizeof(uint32_t);
   return bytes;
 }
+
+namespace {
+
+// out[row k] = sum of weight(e) * values[column[e]] over the row's entries.
+template <class Weight>
+void applyBlock(const std::vector<uint32_t>& rowEnd, const std::vector<uint32_t>& column,
+                const Weight& weight, const std::vector<RGB>& values, RGB* out) {
+  uint32_t begin = 0;
+  for (size_t k = 0; k < rowEnd.size(); ++k) {
+    RGB sum(0.0f);
+    for (uint32_t e = begin; e < rowEnd[k]; ++e) sum += values[column[e]] * weight[e];
+    out[k] = sum;
+    begin = rowEnd[k];
+  }
+}
+
+}  // namespace
 
 void GatherOperator::apply(const std::vector<RGB>& values, std::vector<RGB>& out) const {
   out.resize(rows_);
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
     const Block& block = blocks_[b];
-    uint32_t begin = 0;
-    for (size_t k = 0; k < block.rowEnd.size(); ++k) {
-      RGB sum(0.0f);
-      for (uint32_t e = begin; e < block.rowEnd[k]; ++e)
-        sum += block.entries[e].weight * values[block.entries[e].column];
-      out[b * kRowsPerBlock + k] = sum;
-      begin = block.rowEnd[k];
-    }
+    RGB* rows = out.data() + b * kRowsPerBlock;
+    if (block.colourWeight.empty())
+      applyBlock(block.rowEnd, block.column, block.greyWeight, values, rows);
+    else
+      applyBlock(block.rowEnd, block.column, block.colourWeight, values, rows);
   });
 }
 

@@ -81,11 +81,18 @@ class GatherOperator {
 
  private:
   static constexpr size_t kRowsPerBlock = 512;
+  // A block's weights are stored grey (one float) when all of them are: media with a
+  // colourless extinction (and no media at all) give grey weights, and a float per entry
+  // halves the operator, its largest memory item (issue 13: bytes per element).
   struct Block {
     std::vector<uint32_t> rowEnd;  // entries of row k of the block end at rowEnd[k]
-    std::vector<GatherEntry> entries;
+    std::vector<uint32_t> column;
+    std::vector<float> greyWeight;  // either this ...
+    std::vector<RGB> colourWeight;  // ... or this holds the weights
   };
-  static void appendMerged(std::vector<GatherEntry>& row, Block& block);
+  static void appendMerged(std::vector<GatherEntry>& row, std::vector<GatherEntry>& entries,
+                           std::vector<uint32_t>& rowEnd);
+  static void store(const std::vector<GatherEntry>& entries, Block& block);
 
   GatherColumns columns_{PointCloud()};
   size_t rows_ = 0;
@@ -99,15 +106,15 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
     Block& block = blocks_[b];
     const size_t begin = b * kRowsPerBlock, end = std::min(rows, begin + kRowsPerBlock);
     block.rowEnd.reserve(end - begin);
-    std::vector<GatherEntry> row;
+    std::vector<GatherEntry> row, entries;
     TraversalScratch scratch;
     for (size_t r = begin; r < end; ++r) {
       row.clear();
       GatherRecorder recorder{columns_, row};
       record(r, recorder, scratch);
-      appendMerged(row, block);
+      appendMerged(row, entries, block.rowEnd);
     }
-    block.entries.shrink_to_fit();
+    store(entries, block);
   });
 }
 

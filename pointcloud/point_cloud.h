@@ -16,7 +16,7 @@ namespace lvox {
 inline constexpr uint32_t kMaxOctreeDepth = 21;
 
 struct OctreeSettings {
-  uint32_t leafSize = 8;   // a node with more elements is split ...
+  uint32_t leafSize = 16;  // a node with more elements is split ...
   uint32_t maxDepth = 20;  // ... unless it is this deep (coincident points)
 };
 

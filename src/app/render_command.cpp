@@ -130,11 +130,14 @@ void printPointCloudSummary(const Report& report) {
   std::fprintf(stderr, "lvox: phases: %s\n", phases.c_str());
   std::fprintf(stderr,
                "lvox: cloud: %llu surfels, %llu lvoxels, %llu nodes; %.1f MB elements, %.1f MB "
-               "octree, %.1f MB lvoxel light; peak RSS %.0f MB\n",
+               "octree, %.1f MB interreflection weights, %.1f MB lvoxel light (%.0f B per "
+               "element); peak RSS %.0f MB\n",
                static_cast<unsigned long long>(count("surfels")),
                static_cast<unsigned long long>(count("lvoxels")),
                static_cast<unsigned long long>(count("octree_nodes")), megabytes("point_cloud"),
-               megabytes("octree"), megabytes("lvoxel_light"), megabytes("peak_rss"));
+               megabytes("octree"), megabytes("interreflection_operator"),
+               megabytes("lvoxel_light"), megabytes("bytes_per_element") * 1e6,
+               megabytes("peak_rss"));
 }
 
 void printSummary(const Scene& scene, const Report& report, const std::string& output) {

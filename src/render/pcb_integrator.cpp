@@ -123,6 +123,13 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = PointCloud::bytesPerNode();
+  // Everything the cloud holds per element: the elements, the octree (nodes, clusters,
+  // traversal layout), the lvoxel light and the interreflection weights.
+  const uint64_t elements = cloud.surfels().size() + cloud.lvoxels().size();
+  const auto weights = report.memory.find("interreflection_operator");
+  const uint64_t held = mem.total() + cloud.lvoxels().light.memoryBytes() +
+                        (weights == report.memory.end() ? 0 : weights->second);
+  if (elements > 0) report.memory["bytes_per_element"] = (held + elements / 2) / elements;
   report.settings["surfel_spacing"] = std::to_string(spacing);
   if (cache.lvoxels)
     report.settings["lvoxel_spacing"] = std::to_string(cloud.lvoxels().light.grid().spacing);

@@ -26,7 +26,12 @@ struct Report {
   nlohmann::json toJson() const;
 };
 
-// Adds the seconds between construction and destruction to report.times[phase].
+// Peak resident set size of this process, in bytes.
+uint64_t peakRssBytes();
+
+// Adds the seconds between construction and destruction to report.times[phase], and
+// records the process's peak RSS at the phase's end as memory["peak_rss_after_" + phase]:
+// the first phase whose figure jumps is the one that allocated the peak.
 class PhaseTimer {
  public:
   PhaseTimer(Report& report, std::string phase)
@@ -34,6 +39,7 @@ class PhaseTimer {
   ~PhaseTimer() {
     report_.times[phase_] +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    report_.memory["peak_rss_after_" + phase_] = peakRssBytes();
   }
   PhaseTimer(const PhaseTimer&) = delete;
   PhaseTimer& operator=(const PhaseTimer&) = delete;
@@ -43,8 +49,5 @@ class PhaseTimer {
   std::string phase_;
   std::chrono::steady_clock::time_point start_;
 };
-
-// Peak resident set size of this process, in bytes.
-uint64_t peakRssBytes();
 
 }  // namespace lvox

@@ -53,7 +53,7 @@ TEST(Octree, NodesPartitionElementsAndBoundsContainThem) {
     if (n.isLeaf()) {
       leafElements += n.elementCount();
       // 20 coincident surfels cannot be split: they stay in one leaf at the depth cap.
-      if (n.elementCount() > 8) {
+      if (n.elementCount() > OctreeSettings{}.leafSize) {
         EXPECT_EQ(n.surfelEnd - n.surfelBegin, n.elementCount());
       }
       for (uint32_t s = n.surfelBegin; s < n.surfelEnd; ++s) {
