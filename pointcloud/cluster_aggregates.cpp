@@ -95,7 +95,8 @@ struct LvoxelSums {
 }  // namespace
 
 void PointCloud::updateAggregates() {
-  surfelClusters_.assign(nodes_.size(), SurfelCluster{});
+  const bool surfelClusters = keepSurfelClusters_;
+  surfelClusters_.assign(surfelClusters ? nodes_.size() : 0, SurfelCluster{});
   lvoxelClusters_.assign(nodes_.size(), LvoxelCluster{});
   if (nodes_.empty()) return;
   for (size_t level = levelBegin_.size() - 1; level-- > 0;) {
@@ -105,7 +106,7 @@ void PointCloud::updateAggregates() {
       LvoxelSums ls;
       float m[6];
       if (node.isLeaf()) {
-        for (uint32_t s = node.surfelBegin; s < node.surfelEnd; ++s) {
+        for (uint32_t s = node.surfelBegin; surfelClusters && s < node.surfelEnd; ++s) {
           const float a = surfels_.representedArea(s);
           diskMoment(surfels_.normal[s], a, m);
           ss.add(surfels_.position[s], a, surfels_.normal[s], surfels_.radianceFront[s],
@@ -120,18 +121,20 @@ void PointCloud::updateAggregates() {
         }
       } else {
         for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
-          const SurfelCluster& sc = surfelClusters_[c];
-          for (int k = 0; k < 6; ++k) m[k] = sc.moment[k] * sc.area;
-          ss.add(sc.centroid, sc.area, sc.axis, sc.radianceFront, sc.radianceBack, m);
-          if (sc.area > 0.0f) ss.cover.extend(sc.cover);
-          ss.diskArea += sc.diskArea;
+          if (surfelClusters) {
+            const SurfelCluster& sc = surfelClusters_[c];
+            for (int k = 0; k < 6; ++k) m[k] = sc.moment[k] * sc.area;
+            ss.add(sc.centroid, sc.area, sc.axis, sc.radianceFront, sc.radianceBack, m);
+            if (sc.area > 0.0f) ss.cover.extend(sc.cover);
+            ss.diskArea += sc.diskArea;
+          }
           const LvoxelCluster& lc = lvoxelClusters_[c];
           const float side = 2.0f * lc.halfSize;
           const float v = side * side * side;
           if (v > 0.0f) ls.add(lc.centroid, v, lc.sigmaT * v, lc.sourceRadiance);
         }
       }
-      if (node.isLeaf()) {
+      if (surfelClusters && node.isLeaf()) {
         // Clip the squares to the node's cell: cover boxes of one level then tile a
         // surface instead of overlapping where neighbouring squares stick out.
         const Bounds3& cell = cells_[i];
@@ -140,7 +143,7 @@ void PointCloud::updateAggregates() {
           ss.cover.hi[a] = std::min(ss.cover.hi[a], cell.hi[a]);
         }
       }
-      surfelClusters_[i] = ss.finish();
+      if (surfelClusters) surfelClusters_[i] = ss.finish();
       // The traversal enters a node only through its bounds: they must hold the cluster
       // proxies too (the cover box may reach past the disks into the cell's gaps, the
       // lvoxel cube of a partly filled node past its lvoxels). Bounds only grow,

@@ -18,6 +18,10 @@ inline constexpr uint32_t kMaxOctreeDepth = 21;
 struct OctreeSettings {
   uint32_t leafSize = 16;  // a node with more elements is split ...
   uint32_t maxDepth = 20;  // ... unless it is this deep (coincident points)
+  // Keep the surfel cluster proxies (and the node cells they are clipped to). Gathers that
+  // test every surfel exactly (cluster_solid_angle 0, the default) never read them: without
+  // them a node costs 128 bytes less.
+  bool surfelClusters = true;
 };
 
 struct PointCloudMemory {
@@ -41,6 +45,7 @@ class PointCloud {
   const std::vector<OctreeNode>& nodes() const { return nodes_; }
   const std::vector<SurfelCluster>& surfelClusters() const { return surfelClusters_; }
   const std::vector<LvoxelCluster>& lvoxelClusters() const { return lvoxelClusters_; }
+  bool hasSurfelClusters() const { return keepSurfelClusters_; }
   bool empty() const { return nodes_.empty(); }
 
   // The traversal's layout (traversal.h), built with the octree from the elements'
@@ -67,8 +72,10 @@ class PointCloud {
   size_t memoryBytes() const { return memory().total(); }
   // The traversal layout's share of memory().octreeBytes.
   size_t traversalBytes() const;
-  static constexpr size_t bytesPerNode() {
-    return sizeof(OctreeNode) + sizeof(Bounds3) + sizeof(SurfelCluster) + sizeof(LvoxelCluster);
+  // Nodes, their cells and their cluster aggregates, per node.
+  size_t bytesPerNode() const {
+    return sizeof(OctreeNode) + sizeof(LvoxelCluster) +
+           (keepSurfelClusters_ ? sizeof(Bounds3) + sizeof(SurfelCluster) : 0);
   }
 
  private:
@@ -78,6 +85,7 @@ class PointCloud {
 
   SurfelSet surfels_;
   LvoxelSet lvoxels_;
+  bool keepSurfelClusters_ = true;
   std::vector<OctreeNode> nodes_;
   std::vector<Bounds3> cells_;        // each node's exact octree cell (cells of a level tile space)
   std::vector<uint32_t> levelBegin_;  // nodes of depth d are [levelBegin_[d], levelBegin_[d+1])

@@ -149,7 +149,9 @@ uint32_t buildWideBlocks(const std::vector<OctreeNode>& nodes, uint32_t n,
 }  // namespace
 
 PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings)
-    : surfels_(std::move(surfels)), lvoxels_(std::move(lvoxels)) {
+    : surfels_(std::move(surfels)),
+      lvoxels_(std::move(lvoxels)),
+      keepSurfelClusters_(settings.surfelClusters) {
   build(settings);
   computeBounds();
   // The aggregates grow the node bounds to hold the cluster proxies; a node's own lvoxel
@@ -159,6 +161,7 @@ PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSetting
   updateAggregates();
   updateAggregates();
   buildTraversalLayout();
+  if (!keepSurfelClusters_) std::vector<Bounds3>().swap(cells_);  // only the covers use them
 }
 
 bool PointCloud::traversalLayoutMatchesNodes() const {
@@ -339,8 +342,10 @@ PointCloudMemory PointCloud::memory() const {
   PointCloudMemory m;
   m.surfelBytes = surfels_.memoryBytes();
   m.lvoxelBytes = lvoxels_.memoryBytes();
-  m.octreeBytes = nodes_.size() * bytesPerNode() + levelBegin_.size() * sizeof(uint32_t) +
-                  traversalBytes();
+  m.octreeBytes = nodes_.size() * sizeof(OctreeNode) + cells_.size() * sizeof(Bounds3) +
+                  surfelClusters_.size() * sizeof(SurfelCluster) +
+                  lvoxelClusters_.size() * sizeof(LvoxelCluster) +
+                  levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
   return m;
 }
 

@@ -15,22 +15,64 @@ long SurfelLookup::cellOf(float v) const { return static_cast<long>(std::floor(v
 
 SurfelLookup::SurfelLookup(const SurfelSet& surfels, float cell)
     : surfels_(&surfels), cell_(cell > 0.0f ? cell : 1.0f) {
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(surfels.size());
-  for (size_t i = 0; i < surfels.size(); ++i) {
+  const size_t n = surfels.size();
+  std::vector<uint64_t> key(n);
+  for (size_t i = 0; i < n; ++i) {
     const Vec3& p = surfels.position[i];
-    keyed[i] = {cellKey(cellOf(p.x), cellOf(p.y), cellOf(p.z)), static_cast<uint32_t>(i)};
+    key[i] = cellKey(cellOf(p.x), cellOf(p.y), cellOf(p.z));
   }
-  std::sort(keyed.begin(), keyed.end());
-  order_.resize(keyed.size());
-  for (size_t i = 0; i < keyed.size(); ++i) {
-    order_[i] = keyed[i].second;
-    Range& r = cells_.try_emplace(keyed[i].first, Range{static_cast<uint32_t>(i), 0}).first->second;
-    r.end = static_cast<uint32_t>(i + 1);
+  order_.resize(n);
+  for (size_t i = 0; i < n; ++i) order_[i] = static_cast<uint32_t>(i);
+  // By cell, and by index within a cell (the search's tie-breaking order).
+  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+    return key[a] != key[b] ? key[a] < key[b] : a < b;
+  });
+  for (size_t k = 0; k < n; ++k) {
+    const uint64_t cellKeyK = key[order_[k]];
+    if (keys_.empty() || keys_.back() != cellKeyK) {
+      keys_.push_back(cellKeyK);
+      cellBegin_.push_back(static_cast<uint32_t>(k));
+    }
+  }
+  cellBegin_.push_back(static_cast<uint32_t>(n));
+  keys_.shrink_to_fit();
+  cellBegin_.shrink_to_fit();
+  // At most half full: short probe sequences.
+  size_t capacity = 2;
+  while (capacity < 2 * keys_.size()) capacity *= 2;
+  slots_.assign(capacity, kEmptySlot);
+  for (size_t c = 0; c < keys_.size(); ++c) {
+    size_t slot = slotOf(keys_[c], capacity - 1);
+    while (slots_[slot] != kEmptySlot) slot = (slot + 1) & (capacity - 1);
+    slots_[slot] = static_cast<uint32_t>(c);
   }
 }
 
+size_t SurfelLookup::slotOf(uint64_t key, size_t mask) {
+  // A 64-bit mix (splitmix64's finaliser): neighbouring cells land far apart.
+  key ^= key >> 30;
+  key *= 0xbf58476d1ce4e5b9ull;
+  key ^= key >> 27;
+  key *= 0x94d049bb133111ebull;
+  key ^= key >> 31;
+  return static_cast<size_t>(key) & mask;
+}
+
+uint32_t SurfelLookup::findCell(uint64_t key) const {
+  const size_t mask = slots_.size() - 1;
+  for (size_t slot = slotOf(key, mask);; slot = (slot + 1) & mask) {
+    const uint32_t c = slots_[slot];
+    if (c == kEmptySlot || keys_[c] == key) return c;
+  }
+}
+
+size_t SurfelLookup::memoryBytes() const {
+  return order_.capacity() * sizeof(uint32_t) + keys_.capacity() * sizeof(uint64_t) +
+         cellBegin_.capacity() * sizeof(uint32_t) + slots_.capacity() * sizeof(uint32_t);
+}
+
 long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
-  if (!surfels_) return -1;
+  if (!surfels_ || slots_.empty()) return -1;
   const SurfelSet& s = *surfels_;
   const long cx = cellOf(p.x), cy = cellOf(p.y), cz = cellOf(p.z);
   float bestAligned = kInf, bestAny = kInf;
@@ -38,9 +80,9 @@ long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
   for (long dx = -1; dx <= 1; ++dx)
     for (long dy = -1; dy <= 1; ++dy)
       for (long dz = -1; dz <= 1; ++dz) {
-        const auto it = cells_.find(cellKey(cx + dx, cy + dy, cz + dz));
-        if (it == cells_.end()) continue;
-        for (uint32_t k = it->second.begin; k < it->second.end; ++k) {
+        const uint32_t c = findCell(cellKey(cx + dx, cy + dy, cz + dz));
+        if (c == kEmptySlot) continue;
+        for (uint32_t k = cellBegin_[c]; k < cellBegin_[c + 1]; ++k) {
           const uint32_t i = order_[k];
           const Vec3 d = s.position[i] - p;
           // Distance off the surfel's plane counts 4x: a parallel surface close by (the

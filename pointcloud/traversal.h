@@ -38,6 +38,7 @@
 
 #include "pointcloud/point_cloud.h"
 #include "pointcloud/ray_element.h"
+#include "src/core/check.h"
 
 namespace lvox {
 
@@ -346,6 +347,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
       pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
   }
   if (surfels && node.surfelEnd > node.surfelBegin) {
+    LVOX_DCHECK(pc.hasSurfelClusters(), "surfel clusters used but not kept (OctreeSettings)");
     const SurfelCluster& c = pc.surfelClusters()[n];
     float t0, t1;
     if (c.cover.intersect(ray, t0, t1)) {

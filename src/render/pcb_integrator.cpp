@@ -122,12 +122,14 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["lvoxel_light"] = cloud.lvoxels().light.memoryBytes();
   report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
-  report.memory["bytes_per_node"] = PointCloud::bytesPerNode();
+  report.memory["bytes_per_node"] = cloud.bytesPerNode();
+  const uint64_t lookupBytes = cache.lookup ? cache.lookup->memoryBytes() : 0;
+  if (cache.lookup) report.memory["surfel_lookup"] = lookupBytes;
   // Everything the cloud holds per element: the elements, the octree (nodes, clusters,
-  // traversal layout), the lvoxel light and the interreflection weights.
+  // traversal layout), the surfel lookup, the lvoxel light and the interreflection weights.
   const uint64_t elements = cloud.surfels().size() + cloud.lvoxels().size();
   const auto weights = report.memory.find("interreflection_operator");
-  const uint64_t held = mem.total() + cloud.lvoxels().light.memoryBytes() +
+  const uint64_t held = mem.total() + lookupBytes + cloud.lvoxels().light.memoryBytes() +
                         (weights == report.memory.end() ? 0 : weights->second);
   if (elements > 0) report.memory["bytes_per_element"] = (held + elements / 2) / elements;
   report.settings["surfel_spacing"] = std::to_string(spacing);
@@ -163,7 +165,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   }
   {
     PhaseTimer timer(report, "octree_build");
-    cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels));
+    OctreeSettings octree;
+    octree.surfelClusters = settings.clusterSolidAngle > 0.0f;  // else never read
+    cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
     if (settings.gatherVisibility == GatherVisibility::kRays)
       cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
   }

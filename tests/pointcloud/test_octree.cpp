@@ -13,7 +13,8 @@ namespace lvox {
 namespace {
 
 // Random disks and cubes of varying size in [0,1]^3, plus a few coincident points.
-PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels) {
+PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels,
+                       const OctreeSettings& settings = {}) {
   Rng rng(seed, 0);
   auto point = [&] { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()); };
   SurfelSet s;
@@ -33,7 +34,7 @@ PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels) {
     l.sigmaA[i] = RGB(0.1f);
     l.sigmaS[i] = RGB(rng.uniform());
   }
-  return PointCloud(std::move(s), std::move(l));
+  return PointCloud(std::move(s), std::move(l), settings);
 }
 
 Ray randomRay(Rng& rng) {
@@ -77,7 +78,7 @@ TEST(Octree, NodesPartitionElementsAndBoundsContainThem) {
   const PointCloudMemory m = pc.memory();
   EXPECT_EQ(m.surfelBytes, 3000u * SurfelSet::bytesPerElement());
   EXPECT_EQ(m.lvoxelBytes, 2000u * LvoxelSet::bytesPerElement());
-  EXPECT_GE(m.octreeBytes, nodes.size() * PointCloud::bytesPerNode());
+  EXPECT_GE(m.octreeBytes, nodes.size() * pc.bytesPerNode());
 }
 
 TEST(Octree, BuildIsDeterministicAcrossThreadCounts) {
@@ -167,6 +168,49 @@ TEST(Traversal, VisitsElementsFrontToBackAndMatchesBruteForce) {
   // The random rays must exercise both kinds of elements for the test to mean anything.
   EXPECT_GT(withSurfel, rays / 4);
   EXPECT_GT(lvoxelVisits, rays);
+}
+
+TEST(Traversal, ExactTraversalDoesNotNeedSurfelClusters) {
+  // Without surfel cluster proxies (what pcb builds when cluster_solid_angle is 0) an exact
+  // traversal visits the same elements in the same order, and each node costs the
+  // proxy and its cell less.
+  const PointCloud with = randomCloud(5, 4000, 3000);
+  OctreeSettings settings;
+  settings.surfelClusters = false;
+  const PointCloud without = randomCloud(5, 4000, 3000, settings);
+  ASSERT_EQ(with.nodes().size(), without.nodes().size());
+  EXPECT_FALSE(without.hasSurfelClusters());
+  EXPECT_TRUE(without.surfelClusters().empty());
+  EXPECT_EQ(with.memory().octreeBytes - without.memory().octreeBytes,
+            with.nodes().size() * (sizeof(SurfelCluster) + sizeof(Bounds3)));
+  Rng rng(5, 1);
+  TraversalScratch scratch;
+  TraversalOptions lvoxelClusters;
+  lvoxelClusters.maxLvoxelSolidAngle = 0.3f;  // lvoxel proxies stay available
+  // Records lvoxel cluster visits too (ids past the lvoxels').
+  struct WithClusters : Recorder {
+    bool lvoxelCluster(uint32_t n, float t0, float) {
+      visits.push_back({t0, 1'000'000 + n, false});
+      return true;
+    }
+  };
+  size_t clusterVisits = 0;
+  for (int r = 0; r < 300; ++r) {
+    const Ray ray = randomRay(rng);
+    for (const TraversalOptions& o : {TraversalOptions{}, lvoxelClusters}) {
+      WithClusters a, b;
+      traverse(with, ray, a, o, scratch);
+      traverse(without, ray, b, o, scratch);
+      ASSERT_EQ(a.visits.size(), b.visits.size()) << "ray " << r;
+      for (size_t k = 0; k < a.visits.size(); ++k) {
+        EXPECT_EQ(a.visits[k].id, b.visits[k].id) << "ray " << r;
+        EXPECT_EQ(a.visits[k].t, b.visits[k].t) << "ray " << r;
+        clusterVisits += a.visits[k].id >= 1'000'000;
+      }
+    }
+  }
+  // Only lvoxel-only nodes may be proxies, few in this mixed cloud: some must be used.
+  EXPECT_GT(clusterVisits, 10u);
 }
 
 TEST(Traversal, FirstOpaqueSurfelPrunesEverythingBehindIt) {
