@@ -10,7 +10,14 @@ GatherColumns::GatherColumns(const PointCloud& cloud)
 
 std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
                                        const RGB& backgroundRadiance) const {
-  std::vector<RGB> v(size());
+  std::vector<RGB> v;
+  valuesInto(cloud, backgroundRadiance, v);
+  return v;
+}
+
+void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
+                               std::vector<RGB>& v) const {
+  v.resize(size());
   const SurfelSet& s = cloud.surfels();
   for (size_t i = 0; i < surfels; ++i) {
     v[surfel(index(i), true)] = s.radianceFront[i];
@@ -24,7 +31,6 @@ std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
   for (size_t n = 0; n < lvoxelClusters; ++n)
     v[lvoxelCluster(index(n))] = cloud.lvoxelClusters()[n].sourceRadiance;
   v[background()] = backgroundRadiance;
-  return v;
 }
 
 // Rays of one gather often reach the same element: one entry per column.
@@ -75,33 +81,9 @@ size_t GatherOperator::memoryBytes() const {
   return bytes;
 }
 
-namespace {
-
-// out[row k] = sum of weight(e) * values[column[e]] over the row's entries.
-template <class Weight>
-void applyBlock(const std::vector<uint32_t>& rowEnd, const std::vector<uint32_t>& column,
-                const Weight& weight, const std::vector<RGB>& values, RGB* out) {
-  uint32_t begin = 0;
-  for (size_t k = 0; k < rowEnd.size(); ++k) {
-    RGB sum(0.0f);
-    for (uint32_t e = begin; e < rowEnd[k]; ++e) sum += values[column[e]] * weight[e];
-    out[k] = sum;
-    begin = rowEnd[k];
-  }
-}
-
-}  // namespace
-
 void GatherOperator::apply(const std::vector<RGB>& values, std::vector<RGB>& out) const {
   out.resize(rows_);
-  tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
-    const Block& block = blocks_[b];
-    RGB* rows = out.data() + b * kRowsPerBlock;
-    if (block.colourWeight.empty())
-      applyBlock(block.rowEnd, block.column, block.greyWeight, values, rows);
-    else
-      applyBlock(block.rowEnd, block.column, block.colourWeight, values, rows);
-  });
+  forEachRow(values, [&](size_t row, const RGB& sum) { out[row] = sum; });
 }
 
 }  // namespace lvox

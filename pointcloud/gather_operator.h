@@ -35,6 +35,9 @@ struct GatherColumns {
   size_t size() const { return 2 * surfels + lvoxels + 2 * surfelClusters + lvoxelClusters + 1; }
   // The cloud's radiance as it stands (call updateAggregates first), in column order.
   std::vector<RGB> values(const PointCloud& cloud, const RGB& backgroundRadiance) const;
+  // The same into `v`, reusing its storage (passes refill one vector).
+  void valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
+                  std::vector<RGB>& v) const;
 
  private:
   static uint32_t index(size_t i) { return static_cast<uint32_t>(i); }
@@ -77,10 +80,15 @@ class GatherOperator {
   size_t memoryBytes() const;
   // out[r] = sum of weight * values[column] over row r.
   void apply(const std::vector<RGB>& values, std::vector<RGB>& out) const;
+  // sink(r, that sum) for every row r, without a vector of all rows (it is as large as the
+  // cloud): blocks of kRowsPerBlock rows in parallel, a block's rows in order on one thread.
+  template <class Sink>
+  void forEachRow(const std::vector<RGB>& values, Sink&& sink) const;
+  static constexpr size_t kRowsPerBlock = 512;
+  size_t blockCount() const { return blocks_.size(); }
   const GatherColumns& columns() const { return columns_; }
 
  private:
-  static constexpr size_t kRowsPerBlock = 512;
   // A block's weights are stored grey (one float) when all of them are: media with a
   // colourless extinction (and no media at all) give grey weights, and a float per entry
   // halves the operator, its largest memory item (issue 13: bytes per element).
@@ -93,6 +101,9 @@ class GatherOperator {
   static void appendMerged(std::vector<GatherEntry>& row, std::vector<GatherEntry>& entries,
                            std::vector<uint32_t>& rowEnd);
   static void store(const std::vector<GatherEntry>& entries, Block& block);
+  template <class Weight, class Sink>
+  static void applyBlock(const Block& block, const Weight& weight, size_t firstRow,
+                         const std::vector<RGB>& values, Sink& sink);
 
   GatherColumns columns_{PointCloud()};
   size_t rows_ = 0;
@@ -115,6 +126,29 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
       appendMerged(row, entries, block.rowEnd);
     }
     store(entries, block);
+  });
+}
+
+template <class Weight, class Sink>
+void GatherOperator::applyBlock(const Block& block, const Weight& weight, size_t firstRow,
+                                const std::vector<RGB>& values, Sink& sink) {
+  uint32_t begin = 0;
+  for (size_t k = 0; k < block.rowEnd.size(); ++k) {
+    RGB sum(0.0f);
+    for (uint32_t e = begin; e < block.rowEnd[k]; ++e) sum += values[block.column[e]] * weight[e];
+    sink(firstRow + k, sum);
+    begin = block.rowEnd[k];
+  }
+}
+
+template <class Sink>
+void GatherOperator::forEachRow(const std::vector<RGB>& values, Sink&& sink) const {
+  tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
+    const Block& block = blocks_[b];
+    if (block.colourWeight.empty())
+      applyBlock(block, block.greyWeight, b * kRowsPerBlock, values, sink);
+    else
+      applyBlock(block, block.colourWeight, b * kRowsPerBlock, values, sink);
   });
 }
 

@@ -145,22 +145,40 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   stats.operatorBytes = gathers.memoryBytes();
 
   const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
-  std::vector<RGB> gathered;
+  std::vector<RGB> values, lvoxelGathered(m);
+  // What each pass changed, summed per block of rows, then in block order: deterministic.
+  std::vector<double> blockChange(gathers.blockCount()), blockTotal(gathers.blockCount());
   for (int pass = 0; pass < passes; ++pass) {
-    gathers.apply(gathers.columns().values(cloud, surfelOptions.background), gathered);
+    gathers.columns().valuesInto(cloud, surfelOptions.background, values);  // the snapshot
+    std::fill(blockChange.begin(), blockChange.end(), 0.0);
+    std::fill(blockTotal.begin(), blockTotal.end(), 0.0);
     double change = 0.0, total = 0.0;
-    auto update = [&](RGB& value, const RGB& next) {
+    auto updateInto = [](double& changeSum, double& totalSum, RGB& value, const RGB& next) {
       const RGB finite = isFinite(next) ? next : RGB(0.0f);
       const RGB d = finite - value;
-      change += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
-      total += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
+      changeSum += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+      totalSum += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
       value = finite;
     };
-    for (size_t i = 0; i < n; ++i) {
-      update(s.radianceFront[i], directFront[i] + s.albedo[i] * gathered[i] * kInvPi);
-      update(s.radianceBack[i], directBack[i] + s.albedo[i] * gathered[n + i] * kInvPi);
+    // Surfel radiance is written in place (the gathers read the snapshot only).
+    gathers.forEachRow(values, [&](size_t row, const RGB& gathered) {
+      const size_t b = row / GatherOperator::kRowsPerBlock;
+      if (row < n)
+        updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
+                   directFront[row] + s.albedo[row] * gathered * kInvPi);
+      else if (row < 2 * n)
+        updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
+                   directBack[row - n] + s.albedo[row - n] * gathered * kInvPi);
+      else
+        lvoxelGathered[row - 2 * n] = gathered;
+    });
+    for (size_t b = 0; b < blockChange.size(); ++b) {
+      change += blockChange[b];
+      total += blockTotal[b];
     }
-    storeMultiScatter(l, gathered.data() + 2 * n, update);
+    storeMultiScatter(l, lvoxelGathered.data(), [&](RGB& value, const RGB& next) {
+      updateInto(change, total, value, next);
+    });
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();
   }
