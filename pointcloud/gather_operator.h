@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "pointcloud/gather.h"
@@ -72,8 +73,11 @@ class GatherOperator {
   // record(row, GatherRecorder&, TraversalScratch&) traces row `row`'s gather into the
   // recorder. Rows are built in parallel in fixed blocks: the operator does not depend on
   // the thread schedule.
+  // `reserve(bytes)`, when given, is told each block's bytes as it is stored (from worker
+  // threads) and may throw to stop the build: a memory budget (src/core/memory_budget.h).
   template <class RecordRow>
-  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record);
+  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record,
+                 const std::function<void(uint64_t)>& reserve = {});
 
   size_t rows() const { return rows_; }
   size_t entries() const;
@@ -111,7 +115,8 @@ class GatherOperator {
 };
 
 template <class RecordRow>
-GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record)
+GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record,
+                               const std::function<void(uint64_t)>& reserve)
     : columns_(cloud), rows_(rows), blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock) {
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
     Block& block = blocks_[b];
@@ -126,6 +131,9 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
       appendMerged(row, entries, block.rowEnd);
     }
     store(entries, block);
+    if (reserve)
+      reserve(block.column.size() * sizeof(uint32_t) + block.greyWeight.size() * sizeof(float) +
+              block.colourWeight.size() * sizeof(RGB) + block.rowEnd.size() * sizeof(uint32_t));
   });
 }
 

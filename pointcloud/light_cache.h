@@ -115,7 +115,8 @@ template <class Phase>
 InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const GatherOptions& surfelOptions,
                                           const GatherOptions& lvoxelOptions, int passes,
-                                          uint64_t seed) {
+                                          uint64_t seed,
+                                          const std::function<void(uint64_t)>& reserve = {}) {
   InterreflectionStats stats;
   if (passes <= 0) return stats;
   SurfelSet& s = cloud.mutableSurfels();
@@ -138,7 +139,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
                               scratch, recorder);
         }
-      });
+      },
+      reserve);
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
                      m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
   stats.entries = gathers.entries();

@@ -33,6 +33,7 @@ struct RenderFlags {
   std::optional<int> maxBounces;
   std::optional<int64_t> seed;
   std::optional<int> threads;
+  std::optional<std::string> maxMemory;
   std::optional<int> width, height;
   std::optional<std::string> solver;
   std::optional<float> step;
@@ -103,6 +104,7 @@ std::vector<SettingOverride> overrides(const RenderFlags& f) {
   addOverride(out, flags::kMaxBounces, f.maxBounces);
   addOverride(out, flags::kSeed, f.seed);
   addOverride(out, flags::kThreads, f.threads);
+  addOverride(out, flags::kMaxMemory, f.maxMemory);
   addOverride(out, flags::kWidth, f.width);
   addOverride(out, flags::kHeight, f.height);
   addOverride(out, flags::kSolver, f.solver);
@@ -239,6 +241,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option(flags::kMaxBounces.flag, flags->maxBounces, "Scattering events per path");
   cmd->add_option(flags::kSeed.flag, flags->seed, "Random seed");
   cmd->add_option(flags::kThreads.flag, flags->threads, "Worker threads (0: all cores)");
+  cmd->add_option(flags::kMaxMemory.flag, flags->maxMemory,
+                  "Memory budget, e.g. 4G or 512M (default: 80 % of this machine's memory); "
+                  "a render that would need more stops before allocating it");
   cmd->add_option(flags::kWidth.flag, flags->width, "Image width");
   cmd->add_option(flags::kHeight.flag, flags->height, "Image height");
   cmd->add_option(flags::kSolver.flag, flags->solver,

@@ -3,6 +3,7 @@
 #include <tbb/combinable.h>
 
 #include <cmath>
+#include <functional>
 
 #include "pointcloud/buried_surfels.h"
 #include "pointcloud/gather.h"
@@ -22,19 +23,60 @@ float surfelSpacing(const World& world, const PointCloudSettings& settings) {
                    static_cast<float>(settings.targetSurfels));
 }
 
+// What the point cloud holds per element, measured on Sponza with smoke at 2.8 M surfels
+// (docs/results.md, "Scale and memory": 954 MB peak, 320 bytes per surfel in all): beside
+// the interreflection weights, a surfel costs about 250 bytes at the peak (itself, its
+// share of the octree and its packed disk, the surfel lookup, the passes' snapshot and
+// direct copies); a weight 8 bytes, about 1.2 per surfel gather ray and 16 per lvoxel
+// gather ray (grey weights; coloured ones take 16 bytes and are reserved as they are
+// stored). The sampler adds border sites: up to 15 % more surfels than area / spacing^2.
+constexpr double kBytesPerSurfel = 250.0, kBytesPerLvoxel = 250.0, kBytesPerWeight = 8.0;
+constexpr double kWeightsPerSurfelRay = 1.2, kWeightsPerLvoxelRay = 16.0, kBorderSites = 1.15;
+// Indices into the octree's packed arrays have 29 bits (octree_node.h).
+constexpr double kMaxSurfels = 2.5e8;
+
+const char* surfelCountField(const PointCloudSettings& settings) {
+  return settings.surfelSpacing > 0.0f ? "pointcloud.surfel_spacing" : "pointcloud.target_surfels";
+}
+
 // The surfels a spacing asks for, checked before any is sampled: a spacing far too small
 // for the surfaces is an input error, not hours of sampling or an allocation failure.
-// 1e7 surfels take about 3.5 GB with the interreflection's weights (docs/results.md: about
-// 350 bytes per surfel), four times Gibson's 2.5 M.
-constexpr double kMaxSurfels = 1e7;
-void checkSurfelBudget(const World& world, float spacing, const std::string& sceneFile) {
-  if (!(spacing > 0.0f)) return;
-  const double estimate = world.mesh.area() / (static_cast<double>(spacing) * spacing);
+void checkSurfelMemory(const RenderContext& ctx, const PointCloudSettings& settings, float spacing,
+                       const std::string& sceneFile) {
+  if (!(spacing > 0.0f) || settings.surfelSampler == SurfelSamplerKind::kCamera) return;
+  const double estimate =
+      kBorderSites * ctx.world.mesh.area() / (static_cast<double>(spacing) * spacing);
   if (estimate > kMaxSurfels)
-    throw InputError(sceneFile, "pointcloud.surfel_spacing",
-                     std::to_string(spacing) + " asks for about " +
-                         std::to_string(static_cast<long long>(estimate)) + " surfels over " +
-                         std::to_string(world.mesh.area()) + " square units (at most 1e7)");
+    throw InputError(sceneFile, surfelCountField(settings),
+                     "asks for about " + std::to_string(static_cast<long long>(estimate)) +
+                         " surfels over " + std::to_string(ctx.world.mesh.area()) +
+                         " square units (at most 250,000,000)");
+  if (!ctx.budget) return;
+  const double weights = settings.bounces > 0 ? 2.0 * settings.surfelGatherSamples *
+                                                    kWeightsPerSurfelRay * kBytesPerWeight
+                                              : 0.0;
+  const std::string what = "the point cloud (about " +
+                           std::to_string(static_cast<long long>(estimate)) + " surfels)";
+  ctx.budget->check(static_cast<uint64_t>(estimate * (kBytesPerSurfel + weights)), sceneFile,
+                    surfelCountField(settings), what);
+  ctx.budget->reserve(static_cast<uint64_t>(estimate * kBytesPerSurfel), sceneFile,
+                      surfelCountField(settings), what);
+}
+
+// The lvoxels, once sampled (their count depends on the media): their light, their share
+// of the octree and their interreflection weights.
+void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& settings,
+                       size_t lvoxels, const std::string& sceneFile) {
+  if (!ctx.budget || lvoxels == 0) return;
+  const double n = static_cast<double>(lvoxels);
+  const double weights =
+      settings.bounces > 0 ? settings.lvoxelGatherSamples * kWeightsPerLvoxelRay * kBytesPerWeight
+                           : 0.0;
+  const std::string what = "the lvoxels (" + std::to_string(lvoxels) + ")";
+  ctx.budget->check(static_cast<uint64_t>(n * (kBytesPerLvoxel + weights)), sceneFile,
+                    "pointcloud.lvoxel_spacing", what);
+  ctx.budget->reserve(static_cast<uint64_t>(n * kBytesPerLvoxel), sceneFile,
+                      "pointcloud.lvoxel_spacing", what);
 }
 
 GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
@@ -144,7 +186,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                                 Report& report) {
   const uint64_t seed = ctx.settings.seed;
   const float spacing = surfelSpacing(ctx.world, settings);
-  checkSurfelBudget(ctx.world, spacing, sceneFile);
+  checkSurfelMemory(ctx, settings, spacing, sceneFile);
   PointBasedCache cache;
   cache.lvoxels = ctx.settings.mode == Mode::kPcb && !volume.empty();
   SurfelSet surfels;
@@ -162,6 +204,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
+    checkLvoxelMemory(ctx, settings, lvoxels.size(), sceneFile);
   }
   {
     PhaseTimer timer(report, "octree_build");
@@ -184,8 +227,14 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     GatherOptions lvoxelOptions =
         gatherOptions(ctx, cache, settings, spacing, settings.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
+    std::function<void(uint64_t)> reserve;
+    if (ctx.budget)
+      reserve = [&](uint64_t bytes) {
+        ctx.budget->reserve(bytes, sceneFile, "pointcloud.surfel_gather_samples",
+                            "the interreflection's weights");
+      };
     const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed);
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, reserve);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;

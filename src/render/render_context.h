@@ -1,5 +1,7 @@
 #pragma once
-// What every integrator needs: the world, the render settings, the BVH and the lights.
+// What every integrator needs: the world, the render settings, the BVH and the lights, and
+// the render's memory budget (none: unchecked, for tools and tests).
+#include "src/core/memory_budget.h"
 #include "src/geometry/ray_tracer.h"
 #include "src/render/light_set.h"
 #include "src/render/render_settings.h"
@@ -12,6 +14,7 @@ struct RenderContext {
   const RenderSettings& settings;
   const RayTracer& tracer;
   const LightSet& lights;
+  MemoryBudget* budget = nullptr;
 
   // Spawns a ray from a surface point, offset along the normal to avoid self-hits. With a
   // finite `distance` the ray ends short of the point p + dir * distance (a light or an

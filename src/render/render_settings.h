@@ -23,6 +23,9 @@ struct RenderSettings {
   int areaLightSamples = 16;   // shadow rays per area light (and environment) at a surface point
   int mediumLightSamples = 1;  // the same at each medium evaluation (fixed along a camera ray)
   int threads = 0;             // 0: all cores
+  // Memory budget of the render in bytes ("max_memory": "4G", or --max-memory); 0: 80 % of
+  // the machine's memory (src/core/memory_budget.h). It does not change the image.
+  uint64_t maxMemory = 0;
 };
 
 // Reads the "render" object; unknown keys and out-of-range values throw.

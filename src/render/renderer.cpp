@@ -31,16 +31,22 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   }
   const LightSet lights(world, settings.areaLightSamples);
   const LightSet singleSampleLights(world, 1);
-  const RenderContext ctx{world, settings, *tracer, lights};
+  MemoryBudget budget(settings.maxMemory);
+  // The accumulation buffers and the output image (the progressive renderer's sums,
+  // variance and counts): about 64 bytes per pixel.
+  budget.reserve(static_cast<uint64_t>(world.camera.width) * world.camera.height * 64,
+                 job.sceneFile, "camera.width", "the image");
+  const RenderContext ctx{world, settings, *tracer, lights, &budget};
   MediaSet media;
   {
     PhaseTimer timer(report, "media_load");
     media = MediaSet::build(job.media, job.volume.interpolation, report.warnings);
   }
   const VolumeTransport volume(ctx, media, job.volume);
-  const RenderContext neeCtx{world, settings, *tracer, singleSampleLights};
+  const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
   const MajorantTracker tracker(media, job.volume.majorant == MajorantKind::kGrid);
   report.memory["media"] = media.memoryBytes();
+  budget.reserve(media.memoryBytes(), job.sceneFile, "media", "the media's grids");
   SamplerCounters counters;
   PointBasedCache pointCache;
   PixelSampler sampler;
@@ -65,6 +71,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
                                plan, stats);
   }
   report.add("triangles", world.mesh.triangleCount());
+  report.memory["budget"] = budget.limit();
+  report.memory["budget_reserved"] = budget.reserved();
   report.add("camera_rays", stats.samples);
   report.add("invalid_samples", stats.invalidSamples);
   counters.addTo(report);

@@ -56,11 +56,11 @@ TEST(RenderCli, WritesExrPngAndReport) {
 // Each bad input: non-zero exit, one line on stderr naming the file and the field, and
 // nothing written.
 void expectCleanFailure(const std::string& sceneText, const std::string& field,
-                        const std::string& file = "scene.json") {
+                        const std::string& file = "scene.json", const std::string& flags = "") {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", sceneText);
-  const RunResult r =
-      runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string(), dir);
+  const RunResult r = runLvox(
+      "render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string() + flags, dir);
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(field), std::string::npos) << r.err;
@@ -98,13 +98,45 @@ TEST(RenderCli, LvoxelSpacingFarTooSmall) {
       "pointcloud.lvoxel_spacing");
 }
 // 1e-6 used to loop, 1e-3 to grow past 7 GB, 1e-4 to end in std::bad_alloc naming nothing.
+std::string pcbScene(const std::string& pointcloud) {
+  return replaced("\"mode\": \"direct\", \"spp\": 2}",
+                  "\"mode\": \"pcb\", \"spp\": 2}, \"pointcloud\": " + pointcloud);
+}
+
+// 1e-6 asks for 2e13 surfels, past what the octree can index; 1e-3 for 2e7 surfels,
+// about 7 GB, past a budget of 2 GB. Both are refused before any surfel is sampled.
 TEST(RenderCli, SurfelSpacingFarTooSmall) {
-  for (const char* spacing : {"1e-6", "1e-3"})
-    expectCleanFailure(replaced("\"mode\": \"direct\", \"spp\": 2}",
-                                std::string("\"mode\": \"pcb\", \"spp\": 2}, \"pointcloud\": "
-                                            "{\"surfel_spacing\": ") +
-                                    spacing + "}"),
-                       "pointcloud.surfel_spacing");
+  expectCleanFailure(pcbScene("{\"surfel_spacing\": 1e-6}"), "pointcloud.surfel_spacing");
+  expectCleanFailure(pcbScene("{\"surfel_spacing\": 1e-3}"),
+                     "pointcloud.surfel_spacing: the point cloud (about 2", "scene.json",
+                     " --max-memory 2G");
+}
+
+// The memory budget: from the flag or the scene file, checked before the point cloud is
+// sampled, the message naming the setting, the budget and how to raise it.
+TEST(RenderCli, MemoryBudgetStopsARenderBeforeItAllocates) {
+  const std::string many = pcbScene("{\"target_surfels\": 2000000}");
+  expectCleanFailure(many, "past the memory budget of 256.0 MB", "scene.json",
+                     " --max-memory 256M");
+  expectCleanFailure(many, "pointcloud.target_surfels", "scene.json", " --max-memory 256M");
+  expectCleanFailure(many, "raise it with --max-memory", "scene.json", " --max-memory 256M");
+  std::string inFile = many;
+  const std::string spp = "\"spp\": 2";
+  inFile.replace(inFile.find(spp), spp.size(), spp + ", \"max_memory\": \"256M\"");
+  expectCleanFailure(inFile, "past the memory budget of 256.0 MB");
+  // The default scene's cloud fits in the same budget and renders.
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", pcbScene("{\"target_surfels\": 20000}"));
+  const RunResult r = runLvox("render " + (dir / "scene.json").string() + " -o " +
+                                  (dir / "out.exr").string() + " --max-memory 256M" +
+                                  " --report " + (dir / "r.json").string(),
+                              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::ifstream in(dir / "r.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["memory"]["budget"].get<uint64_t>(), 256u << 20);
+  EXPECT_GT(report["memory"]["budget_reserved"].get<uint64_t>(), 20000u * 250u);
+  EXPECT_LT(report["memory"]["budget_reserved"].get<uint64_t>(), 256u << 20);
 }
 
 TEST(RenderCli, MissingMesh) {
@@ -125,7 +157,9 @@ TEST(RenderCli, BadFlagValuesNameTheFlagBeforeAnyAssetIsLoaded) {
                                             "lvox: error: --solver: unknown solver 'rk5'"},
         {"--mode nope", "lvox: error: --mode: unknown mode 'nope'"},
         {"--step 1e-9", "lvox: error: --step: value 1e-09 is outside"},
-        {"--seed -1", "lvox: error: --seed: value -1 is outside"}}) {
+        {"--seed -1", "lvox: error: --seed: value -1 is outside"},
+        {"--max-memory 4Q", "lvox: error: --max-memory: \"4Q\": unknown unit"},
+        {"--max-memory 0.5M", "lvox: error: --max-memory: \"0.5M\": must be at least 1M"}}) {
     const RunResult r = runLvox("render " + (dir / "scene.json").string() + " " + flags + " -o " +
                                     (dir / "out.exr").string(),
                                 dir);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 
@@ -127,6 +128,39 @@ TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
     ASSERT_EQ(a.surfels().radianceFront[i], b.surfels().radianceFront[i]);
   for (uint32_t s = 0; s < a.lvoxels().light.occupiedCount(); ++s)
     ASSERT_EQ(a.lvoxels().light.multiScatter(s), b.lvoxels().light.multiScatter(s));
+}
+
+}  // namespace
+}  // namespace lvox
+
+namespace lvox {
+namespace {
+
+TEST(GatherOperator, ReservesEveryBlockItStoresAndStopsWhenRefused) {
+  // The reservation callback sees the bytes of each block as it is stored (a render's
+  // memory budget); they add up to the operator's memory, and a callback that throws stops
+  // the build with its exception.
+  const PointCloud pc = litBox(0.5f, 0.05f);
+  GatherOptions o;
+  o.samples = 4;
+  const size_t rows = 3000;  // six blocks
+  auto record = [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
+    Rng rng(3, row);
+    const SurfelSet& s = pc.surfels();
+    const size_t i = row % s.size();
+    gatherIrradianceInto(pc, s.position[i], s.normal[i], o, rng, scratch, rec);
+  };
+  std::atomic<uint64_t> reserved{0};
+  std::atomic<int> calls{0};
+  const GatherOperator op(pc, rows, record, [&](uint64_t bytes) {
+    reserved += bytes;
+    ++calls;
+  });
+  EXPECT_EQ(calls.load(), 6);
+  EXPECT_EQ(reserved.load(), op.memoryBytes());
+  EXPECT_THROW(GatherOperator(pc, rows, record,
+                              [](uint64_t) { throw std::runtime_error("over budget"); }),
+               std::runtime_error);
 }
 
 }  // namespace
