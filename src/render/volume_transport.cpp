@@ -30,6 +30,8 @@ VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media
   base_.minStep = v.minStep;
   base_.maxStep = v.maxStep;
   base_.maxEvaluations = v.maxEvaluations;
+  // T < 1e-7 from a segment's start: nothing behind is visible (rte::SolveSettings).
+  base_.opaqueDepth = 16.2f;
   base_.seed = ctx.settings.seed;
   distanceSampling_ = v.sampling == rte::Sampling::kDistance;
   if (v.sampling == rte::Sampling::kEquiangular) {

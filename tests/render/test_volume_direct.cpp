@@ -111,6 +111,26 @@ TEST(VolumeDirect, EmissionFurnaceThroughTheSmokeVdb) {
   }
 }
 
+// The smoke at density_scale 1e4 (optical depths in the thousands) in direct mode: every
+// in-scatter sample's shadow ray used to run to the end of the smoke (1.01 G evaluations
+// for these 16 camera rays, 97 s); segments now stop where T < 1e-7 (measured: 22 M,
+// 2.4 s). On the atrium with this smoke the image was compared: identical pixels.
+TEST(VolumeDirect, AnOpaqueSmokeCostsWhatIsVisibleOnly) {
+  std::ostringstream s;
+  s << R"({"camera": {"position": [0, 3, -8], "look_at": [0, 3, 0], "vfov_deg": 30, "width": 4, "height": 4},
+    "render": {"spp": 1, "mode": "direct"},
+    "lights": [{"type": "directional", "direction": [0.3, -1, 0.2], "irradiance": 3},
+               {"type": "environment", "radiance": 0.1}],
+    "media": [{"type": "vdb", "file": ")"
+    << LVOX_SOURCE_DIR << R"(/assets/smoke_plume.vdb", "density_scale": 1e4, "albedo": 0.9}]})";
+  Scene scene = parseScene(s.str(), "/tmp/opaque-smoke.json");
+  Report report;
+  const Image image = renderScene(scene.job(), report);
+  EXPECT_GT(report.counts["medium_evals"], 1000u) << "the rays must cross the smoke";
+  EXPECT_LT(report.counts["medium_evals"], 50'000'000u);  // 1.01 G before
+  for (const RGB& p : image.pixels) EXPECT_TRUE(isFinite(p) && p.x >= 0.0f);
+}
+
 // Optically thick: sigma_t = 1e3 with h = 0.1 (sigma_t h = 100) in every explicit method.
 TEST(VolumeDirect, StiffMediumStaysFiniteAndCountsStabilityEvents) {
   const std::string scene = R"({

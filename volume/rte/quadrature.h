@@ -189,7 +189,8 @@ void adaptiveSimpsonRule(Eval& eval, RayState<Real>& s, Real a, Real b,
       const bool thick = sp.tau.maxComponent() > Real(2);
       if (thick && !broke && h / 2 >= minStep) ++eval.counts().stabilityEvents;
       if ((err <= tol * h / length && !thick) || h / 2 < minStep || broke) {
-        eval.counts().capped = eval.counts().capped || (broke && err > tol * h / length);
+        eval.counts().capped =
+            eval.counts().capped || (broke && !eval.opaque() && err > tol * h / length);
         applyPanel(s, sp.q, sp.tau);
         ++eval.counts().steps;
         continue;

@@ -139,6 +139,8 @@ SolveResult<Real> solveOn(Method method, const Problem& problem, Real a, Real b,
   SolveResult<Real> out;
   RayState<Real> state;
   Evaluator<Real, Problem> ev(problem, out.counts, set.maxEvaluations);
+  if (set.opaqueDepth < std::numeric_limits<Real>::infinity())
+    ev.stopWhenOpaque(state, set.opaqueDepth);
   runMethod(method, ev, state, a, b, set, observer);
   out.transmittance = state.transmittance();
   out.opticalDepth = state.opticalDepth();

@@ -81,7 +81,18 @@ class Evaluator {
   // The most recent sample (transparent and dark before the first): what a capped solve
   // finishes with.
   const MediumSample<Real>& last() const { return last_; }
-  bool canAfford(uint64_t n) const { return counts_.mediumEvals + n <= max_; }
+  // From now on, stop (canAfford says no) once every channel of `state` is below
+  // exp(-opaqueDepth).
+  void stopWhenOpaque(const RayState<Real>& state, Real opaqueDepth) {
+    state_ = &state;
+    opaqueT_ = std::exp(-opaqueDepth);
+  }
+  bool opaque() const {
+    if (!state_ || !(opaqueT_ > Real(0))) return false;
+    const Channels<Real> t = state_->transmittance();
+    return t[0] < opaqueT_ && t[1] < opaqueT_ && t[2] < opaqueT_;
+  }
+  bool canAfford(uint64_t n) const { return counts_.mediumEvals + n <= max_ && !opaque(); }
   uint64_t remaining() const { return max_ > counts_.mediumEvals ? max_ - counts_.mediumEvals : 0; }
   SolveCounts& counts() { return counts_; }
 
@@ -89,6 +100,8 @@ class Evaluator {
   const Problem& problem_;
   SolveCounts& counts_;
   uint64_t max_;
+  const RayState<Real>* state_ = nullptr;
+  Real opaqueT_ = Real(0);
   Real lo_ = -std::numeric_limits<Real>::infinity();
   Real hi_ = std::numeric_limits<Real>::infinity();
   MediumSample<Real> last_{};
@@ -120,7 +133,7 @@ void constantCoefficientStep(RayState<Real>& s, const MediumSample<Real>& a,
 // from the last sample (and one at b if a single evaluation is left). Never negative.
 template <class Real, class Eval>
 void finishGracefully(Eval& eval, RayState<Real>& s, Real t, Real b) {
-  eval.counts().capped = true;
+  if (!eval.opaque()) eval.counts().capped = true;  // an opaque stop loses nothing visible
   if (b <= t) return;
   const MediumSample<Real> a = eval.last();
   const MediumSample<Real> end = eval.canAfford(1) ? eval(b) : a;

@@ -206,3 +206,40 @@ TEST(RteRobustness, BadInputNamesTheField) {
 
 }  // namespace
 }  // namespace lvox::rte
+
+namespace lvox::rte {
+namespace {
+
+TEST(RteRobustness, OpaqueDepthStopsWhereNothingBehindIsVisible) {
+  // A slab 10 units long at sigma_t = 1000 (tau = 1e4): past tau = 16.2 (T < 1e-7) nothing
+  // more is visible, and the renderer's opaqueDepth ends the solve there with one
+  // constant-coefficient step, not counted as capped. The answer moves by less than 1e-6
+  // of itself, and the fixed-step methods' evaluations no longer grow with the medium's
+  // optical length. The adaptive pairs are held at their stability boundary on this stiff
+  // ray, where their T decays far more slowly than exp(-sigma t) (Dopri5StiffnessSignature):
+  // the cut never triggers for them and changes nothing.
+  Slab slab;
+  slab.sigmaT = 1000.0;
+  slab.sigmaS = 900.0;
+  const double exact = slab.exact(10.0, 0.3);
+  for (Method m : kAllMethods) {
+    if (m == Method::kMonteCarlo) continue;  // strata over the whole segment, by design
+    SolveSettings<double> s;
+    s.step = 0.01;
+    s.maxEvaluations = 10'000'000;
+    const auto full = solve(m, slab, 0.0, 10.0, C3(0.3), s);
+    s.opaqueDepth = 16.2;
+    const auto cut = solve(m, slab, 0.0, 10.0, C3(0.3), s);
+    EXPECT_FALSE(cut.counts.capped) << methodName(m);
+    EXPECT_NEAR(cut.radiance[0], full.radiance[0], 1e-6 * exact) << methodName(m);
+    EXPECT_LE(cut.counts.mediumEvals, full.counts.mediumEvals) << methodName(m);
+    if (isAdaptive(m) && !isQuadrature(m)) continue;
+    EXPECT_LT(cut.transmittance[0], 1e-7) << methodName(m);
+    if (isAdaptive(m)) continue;  // the adaptive quadratures need few panels either way
+    EXPECT_LT(cut.counts.mediumEvals * 20, full.counts.mediumEvals) << methodName(m);
+    EXPECT_LT(cut.counts.mediumEvals, 2000u) << methodName(m);
+  }
+}
+
+}  // namespace
+}  // namespace lvox::rte
