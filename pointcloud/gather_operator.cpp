@@ -58,6 +58,12 @@ void GatherOperator::apply(const std::vector<RGB>& values, std::vector<RGB>& out
   out.resize(rows_);
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
     const Block& block = blocks_[b];
+    if (!owns(b)) {
+      const size_t begin = b * kRowsPerBlock, end = std::min(rows_, begin + kRowsPerBlock);
+      std::fill(out.begin() + static_cast<std::ptrdiff_t>(begin),
+                out.begin() + static_cast<std::ptrdiff_t>(end), RGB(0.0f));
+      return;
+    }
     uint32_t begin = 0;
     for (size_t k = 0; k < block.rowEnd.size(); ++k) {
       RGB sum(0.0f);

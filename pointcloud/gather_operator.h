@@ -68,9 +68,12 @@ class GatherOperator {
   GatherOperator() = default;
   // record(row, GatherRecorder&, TraversalScratch&) traces row `row`'s gather into the
   // recorder. Rows are built in parallel in fixed blocks: the operator does not depend on
-  // the thread schedule.
+  // the thread schedule. Split over `parts` processes, this one (`part`) traces only the
+  // blocks b with b % parts == part, and apply() gives 0 in the others' rows: the sum of
+  // every part's result is the whole operator's, exactly.
   template <class RecordRow>
-  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record);
+  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record, int part = 0,
+                 int parts = 1);
 
   size_t rows() const { return rows_; }
   size_t entries() const;
@@ -86,16 +89,25 @@ class GatherOperator {
     std::vector<GatherEntry> entries;
   };
   static void appendMerged(std::vector<GatherEntry>& row, Block& block);
+  bool owns(size_t block) const { return block % parts_ == part_; }
 
   GatherColumns columns_{PointCloud()};
   size_t rows_ = 0;
   std::vector<Block> blocks_;
+  size_t part_ = 0, parts_ = 1;
 };
 
 template <class RecordRow>
-GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record)
-    : columns_(cloud), rows_(rows), blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock) {
+GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record, int part,
+                               int parts)
+    : columns_(cloud),
+      rows_(rows),
+      blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock),
+      part_(static_cast<size_t>(part)),
+      parts_(static_cast<size_t>(std::max(parts, 1))) {
+  LVOX_CHECK(part >= 0 && part_ < parts_, "gather operator part out of range");
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
+    if (!owns(b)) return;
     Block& block = blocks_[b];
     const size_t begin = b * kRowsPerBlock, end = std::min(rows, begin + kRowsPerBlock);
     block.rowEnd.reserve(end - begin);

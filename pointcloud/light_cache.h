@@ -4,10 +4,12 @@
 // (the renderer's shadow-ray code), in parallel; then the cluster aggregates are rebuilt.
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "pointcloud/gather.h"
 #include "pointcloud/gather_operator.h"
+#include "src/core/collective.h"
 
 namespace lvox {
 
@@ -31,19 +33,34 @@ struct LvoxelLightQuery {
 // lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights
 //   at the cell centre, integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a
 //   point light: phase * I * Tr / d^2), WITHOUT the sigma_s factor.
+// Over several ranks (`team`, every rank holding the same cloud), each computes the
+// surfels of its blocks (block b of kDirectBlock surfels on rank b % size) and the sums
+// over the ranks give every rank every surfel's light, exactly as one process computes it.
+inline constexpr size_t kDirectBlock = 256;
 template <class SurfelFn, class LvoxelFn>
 void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
-                      const LvoxelFn& lvoxelInScatter) {
+                      const LvoxelFn& lvoxelInScatter, Collective& team = singleProcess()) {
   SurfelSet& s = cloud.mutableSurfels();
-  tbb::parallel_for(size_t(0), s.size(), [&](size_t i) {
-    const auto idx = static_cast<uint32_t>(i);
-    const RGB front = surfelRadiance(
-        SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
-    const RGB back = surfelRadiance(
-        SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
-    s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
-    s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
+  const size_t blocks = (s.size() + kDirectBlock - 1) / kDirectBlock;
+  const auto ranks = static_cast<size_t>(team.size());
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    const bool mine = b % ranks == static_cast<size_t>(team.rank());
+    for (size_t i = b * kDirectBlock; i < std::min(s.size(), (b + 1) * kDirectBlock); ++i) {
+      if (!mine) {
+        s.radianceFront[i] = s.radianceBack[i] = RGB(0.0f);
+        continue;
+      }
+      const auto idx = static_cast<uint32_t>(i);
+      const RGB front = surfelRadiance(
+          SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
+      const RGB back = surfelRadiance(
+          SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
+      s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
+      s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
+    }
   });
+  team.sum(floatsOf(s.radianceFront));
+  team.sum(floatsOf(s.radianceBack));
   LvoxelLight& light = cloud.mutableLvoxels().light;
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t i) {
     const auto slot = static_cast<uint32_t>(i);
@@ -111,11 +128,16 @@ struct InterreflectionStats {
 // The gather rays are traced once, into a GatherOperator, and every pass applies it: the
 // same rays serve every bounce. Few rays per surfel suffice when the camera's final
 // gather averages over many surfels; the noise of each is then averaged out.
+//
+// Over several ranks (`team`, every rank holding the same cloud) each traces and applies
+// its share of the operator's rows, and every pass sums the gathered radiance over the
+// ranks before updating the cloud: every rank ends with the cloud one process computes.
+// The stats' rays are all ranks'; its entries and bytes this rank's share.
 template <class Phase>
 InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const GatherOptions& surfelOptions,
                                           const GatherOptions& lvoxelOptions, int passes,
-                                          uint64_t seed) {
+                                          uint64_t seed, Collective& team = singleProcess()) {
   InterreflectionStats stats;
   if (passes <= 0) return stats;
   SurfelSet& s = cloud.mutableSurfels();
@@ -123,7 +145,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
   const GatherOperator gathers(
-      cloud, 2 * n + m, [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
+      cloud, 2 * n + m,
+      [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
         if (row < 2 * n) {
           const size_t i = row % n;
           const bool front = row < n;
@@ -138,7 +161,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
                               scratch, recorder);
         }
-      });
+      },
+      team.rank(), team.size());
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
                      m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
   stats.entries = gathers.entries();
@@ -148,6 +172,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   std::vector<RGB> gathered;
   for (int pass = 0; pass < passes; ++pass) {
     gathers.apply(gathers.columns().values(cloud, surfelOptions.background), gathered);
+    team.sum(floatsOf(gathered));
     double change = 0.0, total = 0.0;
     auto update = [&](RGB& value, const RGB& next) {
       const RGB finite = isFinite(next) ? next : RGB(0.0f);
