@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <vector>
 
 #include "pointcloud/gather.h"
@@ -116,6 +117,8 @@ struct InterreflectionStats {
   // sum |L_last - L_previous| / sum |L_last| over surfels' radiance and lvoxels' in-scatter:
   // what the last pass still changed, i.e. roughly the share of light still missing.
   double lastPassChange = 0.0;
+  double traceSeconds = 0.0;     // tracing the gather rays into the operator (split)
+  double exchangeSeconds = 0.0;  // over ranks: summing the passes' radiance (waits included)
 };
 
 // Interreflection: `passes` Jacobi passes over the whole cloud. Each pass gathers, from
@@ -144,6 +147,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
+  const auto traceStart = std::chrono::steady_clock::now();
   const GatherOperator gathers(
       cloud, 2 * n + m,
       [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
@@ -163,6 +167,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
         }
       },
       team.rank(), team.size());
+  stats.traceSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - traceStart).count();
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
                      m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
   stats.entries = gathers.entries();
@@ -172,7 +178,10 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   std::vector<RGB> gathered;
   for (int pass = 0; pass < passes; ++pass) {
     gathers.apply(gathers.columns().values(cloud, surfelOptions.background), gathered);
+    const auto exchangeStart = std::chrono::steady_clock::now();
     team.sum(floatsOf(gathered));
+    stats.exchangeSeconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - exchangeStart).count();
     double change = 0.0, total = 0.0;
     auto update = [&](RGB& value, const RGB& next) {
       const RGB finite = isFinite(next) ? next : RGB(0.0f);

@@ -38,7 +38,11 @@ RenderResult renderDistributed(int width, int height, uint64_t seed, const Pixel
   else
     renderTileBands(sum, seed, sample, plan, team, stats);
   {
-    PhaseTimer timer(report, "render_exchange");
+    PhaseTimer timer(report, "render_wait");  // for the slowest rank: the imbalance
+    team.barrier();
+  }
+  {
+    PhaseTimer timer(report, "render_exchange");  // the sum itself: the communication
     team.sum(floatsOf(sum.pixels));
   }
   RenderResult result;

@@ -20,9 +20,9 @@ namespace lvox {
 enum class RenderSplit { kSampleRanges, kTileBands };
 
 // Samples [plan.firstSample, plan.firstSample + plan.spp); the plan's budget, reference
-// and stop request are not used (the app refuses them with several ranks). The time spent
-// adding the images over the ranks (waiting for the slowest included) is the report's
-// "render_exchange", part of the caller's "render".
+// and stop request are not used (the app refuses them with several ranks). The report's
+// "render_wait" (waiting for the slowest rank) and "render_exchange" (adding the images
+// over the ranks) are parts of the caller's "render".
 RenderResult renderDistributed(int width, int height, uint64_t seed, const PixelSampler& sample,
                                const RenderPlan& plan, RenderSplit split, Collective& team,
                                TileStats& stats, Report& report);

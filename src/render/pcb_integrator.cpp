@@ -180,6 +180,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
     report.settings["interreflection_last_pass_change"] = std::to_string(stats.lastPassChange);
+    // Parts of "interreflection": the rest is the passes' products and updates.
+    report.times["interreflection_trace"] = stats.traceSeconds;
+    if (team.distributed()) report.times["interreflection_exchange"] = stats.exchangeSeconds;
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);
