@@ -72,12 +72,14 @@ class GatherOperator {
   GatherOperator() = default;
   // record(row, GatherRecorder&, TraversalScratch&) traces row `row`'s gather into the
   // recorder. Rows are built in parallel in fixed blocks: the operator does not depend on
-  // the thread schedule.
-  // `reserve(bytes)`, when given, is told each block's bytes as it is stored (from worker
-  // threads) and may throw to stop the build: a memory budget (src/core/memory_budget.h).
+  // the thread schedule. Split over `parts` processes, this one (`part`) traces only the
+  // blocks b with b % parts == part, and apply() gives 0 in the others' rows: the sum of
+  // every part's result is the whole operator's, exactly. `reserve(bytes)`, when given, is
+  // told each block's bytes as it is stored (from worker threads) and may throw to stop the
+  // build: a memory budget (src/core/memory_budget.h).
   template <class RecordRow>
-  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record,
-                 const std::function<void(uint64_t)>& reserve = {});
+  GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record, int part = 0,
+                 int parts = 1, const std::function<void(uint64_t)>& reserve = {});
 
   size_t rows() const { return rows_; }
   size_t entries() const;
@@ -86,6 +88,7 @@ class GatherOperator {
   void apply(const std::vector<RGB>& values, std::vector<RGB>& out) const;
   // sink(r, that sum) for every row r, without a vector of all rows (it is as large as the
   // cloud): blocks of kRowsPerBlock rows in parallel, a block's rows in order on one thread.
+  // Rows of blocks another part owns get 0.
   template <class Sink>
   void forEachRow(const std::vector<RGB>& values, Sink&& sink) const;
   static constexpr size_t kRowsPerBlock = 512;
@@ -108,17 +111,25 @@ class GatherOperator {
   template <class Weight, class Sink>
   static void applyBlock(const Block& block, const Weight& weight, size_t firstRow,
                          const std::vector<RGB>& values, Sink& sink);
+  bool owns(size_t block) const { return block % parts_ == part_; }
 
   GatherColumns columns_{PointCloud()};
   size_t rows_ = 0;
   std::vector<Block> blocks_;
+  size_t part_ = 0, parts_ = 1;
 };
 
 template <class RecordRow>
-GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record,
-                               const std::function<void(uint64_t)>& reserve)
-    : columns_(cloud), rows_(rows), blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock) {
+GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record, int part,
+                               int parts, const std::function<void(uint64_t)>& reserve)
+    : columns_(cloud),
+      rows_(rows),
+      blocks_((rows + kRowsPerBlock - 1) / kRowsPerBlock),
+      part_(static_cast<size_t>(part)),
+      parts_(static_cast<size_t>(std::max(parts, 1))) {
+  LVOX_CHECK(part >= 0 && part_ < parts_, "gather operator part out of range");
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
+    if (!owns(b)) return;
     Block& block = blocks_[b];
     const size_t begin = b * kRowsPerBlock, end = std::min(rows, begin + kRowsPerBlock);
     block.rowEnd.reserve(end - begin);
@@ -152,6 +163,11 @@ void GatherOperator::applyBlock(const Block& block, const Weight& weight, size_t
 template <class Sink>
 void GatherOperator::forEachRow(const std::vector<RGB>& values, Sink&& sink) const {
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
+    if (!owns(b)) {  // another process's rows: zero here, so the parts sum to the whole
+      for (size_t r = b * kRowsPerBlock; r < std::min(rows_, (b + 1) * kRowsPerBlock); ++r)
+        sink(r, RGB(0.0f));
+      return;
+    }
     const Block& block = blocks_[b];
     if (block.colourWeight.empty())
       applyBlock(block, block.greyWeight, b * kRowsPerBlock, values, sink);

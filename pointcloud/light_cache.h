@@ -4,10 +4,14 @@
 // (the renderer's shadow-ray code), in parallel; then the cluster aggregates are rebuilt.
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <chrono>
+#include <functional>
 #include <vector>
 
 #include "pointcloud/gather.h"
 #include "pointcloud/gather_operator.h"
+#include "src/core/collective.h"
 
 namespace lvox {
 
@@ -31,19 +35,34 @@ struct LvoxelLightQuery {
 // lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights
 //   at the cell centre, integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a
 //   point light: phase * I * Tr / d^2), WITHOUT the sigma_s factor.
+// Over several ranks (`team`, every rank holding the same cloud), each computes the
+// surfels of its blocks (block b of kDirectBlock surfels on rank b % size) and the sums
+// over the ranks give every rank every surfel's light, exactly as one process computes it.
+inline constexpr size_t kDirectBlock = 256;
 template <class SurfelFn, class LvoxelFn>
 void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
-                      const LvoxelFn& lvoxelInScatter) {
+                      const LvoxelFn& lvoxelInScatter, Collective& team = singleProcess()) {
   SurfelSet& s = cloud.mutableSurfels();
-  tbb::parallel_for(size_t(0), s.size(), [&](size_t i) {
-    const auto idx = static_cast<uint32_t>(i);
-    const RGB front = surfelRadiance(
-        SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
-    const RGB back = surfelRadiance(
-        SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
-    s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
-    s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
+  const size_t blocks = (s.size() + kDirectBlock - 1) / kDirectBlock;
+  const auto ranks = static_cast<size_t>(team.size());
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    const bool mine = b % ranks == static_cast<size_t>(team.rank());
+    for (size_t i = b * kDirectBlock; i < std::min(s.size(), (b + 1) * kDirectBlock); ++i) {
+      if (!mine) {
+        s.radianceFront[i] = s.radianceBack[i] = RGB(0.0f);
+        continue;
+      }
+      const auto idx = static_cast<uint32_t>(i);
+      const RGB front = surfelRadiance(
+          SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
+      const RGB back = surfelRadiance(
+          SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
+      s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
+      s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
+    }
   });
+  team.sum(floatsOf(s.radianceFront));
+  team.sum(floatsOf(s.radianceBack));
   LvoxelLight& light = cloud.mutableLvoxels().light;
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t i) {
     const auto slot = static_cast<uint32_t>(i);
@@ -99,6 +118,8 @@ struct InterreflectionStats {
   // sum |L_last - L_previous| / sum |L_last| over surfels' radiance and lvoxels' in-scatter:
   // what the last pass still changed, i.e. roughly the share of light still missing.
   double lastPassChange = 0.0;
+  double traceSeconds = 0.0;     // tracing the gather rays into the operator (split)
+  double exchangeSeconds = 0.0;  // over ranks: summing the passes' radiance (waits included)
 };
 
 // Interreflection: `passes` Jacobi passes over the whole cloud. Each pass gathers, from
@@ -111,11 +132,16 @@ struct InterreflectionStats {
 // The gather rays are traced once, into a GatherOperator, and every pass applies it: the
 // same rays serve every bounce. Few rays per surfel suffice when the camera's final
 // gather averages over many surfels; the noise of each is then averaged out.
+//
+// Over several ranks (`team`, every rank holding the same cloud) each traces and applies
+// its share of the operator's rows, and every pass sums the gathered radiance over the
+// ranks before updating the cloud: every rank ends with the cloud one process computes.
+// The stats' rays are all ranks'; its entries and bytes this rank's share.
 template <class Phase>
 InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const GatherOptions& surfelOptions,
                                           const GatherOptions& lvoxelOptions, int passes,
-                                          uint64_t seed,
+                                          uint64_t seed, Collective& team = singleProcess(),
                                           const std::function<void(uint64_t)>& reserve = {}) {
   InterreflectionStats stats;
   if (passes <= 0) return stats;
@@ -123,8 +149,10 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
+  const auto traceStart = std::chrono::steady_clock::now();
   const GatherOperator gathers(
-      cloud, 2 * n + m, [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
+      cloud, 2 * n + m,
+      [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
         if (row < 2 * n) {
           const size_t i = row % n;
           const bool front = row < n;
@@ -140,41 +168,59 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                               scratch, recorder);
         }
       },
-      reserve);
+      team.rank(), team.size(), reserve);
+  stats.traceSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - traceStart).count();
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
                      m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
   stats.entries = gathers.entries();
   stats.operatorBytes = gathers.memoryBytes();
 
   const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
-  std::vector<RGB> values, lvoxelGathered(m);
+  std::vector<RGB> values, gathered, lvoxelGathered(m);
   // What each pass changed, summed per block of rows, then in block order: deterministic.
-  std::vector<double> blockChange(gathers.blockCount()), blockTotal(gathers.blockCount());
+  const size_t blocks = gathers.blockCount();
+  std::vector<double> blockChange(blocks), blockTotal(blocks);
+  auto updateInto = [](double& changeSum, double& totalSum, RGB& value, const RGB& next) {
+    const RGB finite = isFinite(next) ? next : RGB(0.0f);
+    const RGB d = finite - value;
+    changeSum += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    totalSum += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
+    value = finite;
+  };
+  // One row's gathered radiance into the cloud (surfel radiance in place: the gathers read
+  // the snapshot `values` only).
+  auto updateRow = [&](size_t row, const RGB& g) {
+    const size_t b = row / GatherOperator::kRowsPerBlock;
+    if (row < n)
+      updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
+                 directFront[row] + s.albedo[row] * g * kInvPi);
+    else if (row < 2 * n)
+      updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
+                 directBack[row - n] + s.albedo[row - n] * g * kInvPi);
+    else
+      lvoxelGathered[row - 2 * n] = g;
+  };
   for (int pass = 0; pass < passes; ++pass) {
     gathers.columns().valuesInto(cloud, surfelOptions.background, values);  // the snapshot
     std::fill(blockChange.begin(), blockChange.end(), 0.0);
     std::fill(blockTotal.begin(), blockTotal.end(), 0.0);
+    if (team.size() == 1) {
+      gathers.forEachRow(values, updateRow);  // no vector of all rows
+    } else {
+      // Every rank's share summed: the whole gathered vector is exchanged.
+      gathers.apply(values, gathered);
+      const auto exchangeStart = std::chrono::steady_clock::now();
+      team.sum(floatsOf(gathered));
+      stats.exchangeSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - exchangeStart).count();
+      tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+        const size_t end = std::min(gathered.size(), (b + 1) * GatherOperator::kRowsPerBlock);
+        for (size_t r = b * GatherOperator::kRowsPerBlock; r < end; ++r) updateRow(r, gathered[r]);
+      });
+    }
     double change = 0.0, total = 0.0;
-    auto updateInto = [](double& changeSum, double& totalSum, RGB& value, const RGB& next) {
-      const RGB finite = isFinite(next) ? next : RGB(0.0f);
-      const RGB d = finite - value;
-      changeSum += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
-      totalSum += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
-      value = finite;
-    };
-    // Surfel radiance is written in place (the gathers read the snapshot only).
-    gathers.forEachRow(values, [&](size_t row, const RGB& gathered) {
-      const size_t b = row / GatherOperator::kRowsPerBlock;
-      if (row < n)
-        updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
-                   directFront[row] + s.albedo[row] * gathered * kInvPi);
-      else if (row < 2 * n)
-        updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
-                   directBack[row - n] + s.albedo[row - n] * gathered * kInvPi);
-      else
-        lvoxelGathered[row - 2 * n] = gathered;
-    });
-    for (size_t b = 0; b < blockChange.size(); ++b) {
+    for (size_t b = 0; b < blocks; ++b) {
       change += blockChange[b];
       total += blockTotal[b];
     }

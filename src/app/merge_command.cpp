@@ -18,6 +18,7 @@ namespace {
 struct MergeFlags {
   std::vector<std::string> inputs;
   std::string output;
+  uint64_t expectSpp = 0;  // 0: no expectation
 };
 
 struct Chunk {
@@ -63,6 +64,57 @@ void requireSameSettings(const ImageMetadata& meta, const ImageMetadata& first,
                            values.first + "'): chunks of one render share every setting");
 }
 
+struct SampleRange {
+  uint64_t first = 0, end = 0;
+};
+
+// The ranges of [from, to) that no chunk holds (chunks sorted by first sample, disjoint).
+std::vector<SampleRange> missingRanges(const std::vector<Chunk>& chunks, uint64_t from,
+                                       uint64_t to) {
+  std::vector<SampleRange> missing;
+  uint64_t next = from;
+  for (const Chunk& c : chunks) {
+    if (c.first > next) missing.push_back({next, std::min(c.first, to)});
+    next = std::max(next, c.first + c.spp);
+  }
+  if (next < to) missing.push_back({next, to});
+  return missing;
+}
+
+// "[4, 8) (--first-sample 4 --spp 4), ...": what to render again.
+std::string describe(const std::vector<SampleRange>& ranges) {
+  std::string text;
+  for (const SampleRange& r : ranges)
+    text += (text.empty() ? "" : ", ") +
+            ("[" + std::to_string(r.first) + ", " + std::to_string(r.end) + ") (--first-sample " +
+             std::to_string(r.first) + " --spp " + std::to_string(r.end - r.first) + ")");
+  return text;
+}
+
+// A chunk that never arrived (a cluster task that died) leaves a gap: with --expect-spp
+// the merge refuses and names the ranges to render again; without it, the image of the
+// samples present is valid, and the gaps are a warning.
+void checkCoverage(const std::vector<Chunk>& chunks, const MergeFlags& f) {
+  if (f.expectSpp == 0) {
+    const auto gaps =
+        missingRanges(chunks, chunks.front().first, chunks.back().first + chunks.back().spp);
+    if (!gaps.empty())
+      std::cerr << "lvox: warning: no chunk holds samples " << describe(gaps)
+                << ": merging the samples present\n";
+    return;
+  }
+  for (const Chunk& c : chunks)
+    if (c.first + c.spp > f.expectSpp)
+      throw InputError(c.path, "lvox.first_sample",
+                       "holds samples up to " + std::to_string(c.first + c.spp) +
+                           ", beyond --expect-spp " + std::to_string(f.expectSpp));
+  const auto missing = missingRanges(chunks, 0, f.expectSpp);
+  if (!missing.empty())
+    throw InputError("--expect-spp", "",
+                     "samples " + describe(missing) +
+                         " are missing: render them, then merge again (nothing written)");
+}
+
 int runMerge(const MergeFlags& f) {
   if (std::filesystem::path(f.output).extension() != ".exr")
     throw InputError(f.output, "--output", "must end in .exr");
@@ -91,6 +143,7 @@ int runMerge(const MergeFlags& f) {
       throw InputError(chunks[i].path, "lvox.first_sample",
                        "overlaps the samples of " + chunks[i - 1].path +
                            " (the same samples twice would not be independent)");
+  checkCoverage(chunks, f);
   Image sum(chunks[0].image.width, chunks[0].image.height);
   uint64_t total = 0;
   for (const Chunk& c : chunks) {
@@ -116,6 +169,10 @@ void addMergeCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("merge", "Merge chunks of one render, weighted by spp");
   cmd->add_option("inputs", flags->inputs, "Chunk EXRs written by lvox render")->required();
   cmd->add_option("-o,--output", flags->output, "Merged EXR")->required();
+  cmd->add_option("--expect-spp", flags->expectSpp,
+                  "The chunks must hold samples [0, N): otherwise name the missing ranges and "
+                  "write nothing")
+      ->check(CLI::PositiveNumber);
   cmd->callback([flags, &exitCode]() { exitCode = runMerge(*flags); });
 }
 

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "src/app/commands.h"
+#include "src/app/rank_times.h"
 #include "src/app/render_output.h"
 #include "src/app/version_info.h"
 #include "src/core/atomic_file.h"
@@ -160,10 +161,20 @@ void printSummary(const Scene& scene, const Report& report, const std::string& o
     std::fprintf(stderr, "lvox: warning: %s\n", w.c_str());
 }
 
-int runRender(const RenderFlags& flags) {
+// Split over ranks, every rank renders its share of every pass: a time budget or a
+// convergence record would need the ranks to agree on each pass.
+void checkDistributable(const RenderFlags& flags, const Collective& team) {
+  if (!team.distributed()) return;
+  const char* why = "is not available in a render split over MPI ranks (docs/cluster.md)";
+  if (flags.timeLimit != 0.0) throw InputError("--time-limit", "", why);
+  if (!flags.convergenceReference.empty()) throw InputError("--convergence", "", why);
+}
+
+int runRender(const RenderFlags& flags, Collective& team) {
   const auto start = std::chrono::steady_clock::now();
   if (flags.timeLimit != 0.0 && !(std::isfinite(flags.timeLimit) && flags.timeLimit > 0.0))
     throw InputError("--time-limit", "", "must be a finite number of seconds > 0");
+  checkDistributable(flags, team);
   Report report;
   Scene scene;
   {
@@ -182,6 +193,7 @@ int runRender(const RenderFlags& flags) {
   plan.spp = scene.render.spp;
   plan.firstSample = flags.firstSample;
   plan.timeLimitSeconds = flags.timeLimit;
+  plan.team = &team;
   Image reference;
   if (!flags.convergenceReference.empty()) {
     if (flags.convergenceCsv.empty())
@@ -199,9 +211,11 @@ int runRender(const RenderFlags& flags) {
                        "has a different size than the scene's camera");
     plan.reference = &reference;
   }
-  // Monte Carlo renders are long: the first Ctrl-C keeps the finished samples.
-  const InterruptGuard interrupts(scene.render.mode == Mode::kMc);
-  if (scene.render.mode == Mode::kMc) plan.stop = &g_stopRequested;
+  // Monte Carlo renders are long: the first Ctrl-C keeps the finished samples (in one
+  // process; a split render stops as a whole, by its launcher).
+  const bool stoppable = scene.render.mode == Mode::kMc && !team.distributed();
+  const InterruptGuard interrupts(stoppable);
+  if (stoppable) plan.stop = &g_stopRequested;
   RenderResult result = renderScene(scene.job(), plan, report);
   if (result.stopped && result.sppDone == 0) {
     std::fprintf(stderr, "lvox: interrupted before any sample was finished: nothing written\n");
@@ -211,10 +225,15 @@ int runRender(const RenderFlags& flags) {
   report.memory["peak_rss"] = peakRssBytes();
   report.times["total"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  collectRankTimes(team, report);
+  if (!team.isRoot()) return 0;  // the root writes the one image and report
   outputs.write(image, report, flags.half, [&](OutputSet& set) {
     if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
   });
-  if (!flags.quiet) printSummary(scene, report, outputs.exrPath());
+  if (!flags.quiet) {
+    printSummary(scene, report, outputs.exrPath());
+    printRankTimes(report);
+  }
   if (!result.stopped) return 0;
   const uint64_t next = flags.firstSample + static_cast<uint64_t>(result.sppDone);
   std::fprintf(stderr,
@@ -227,7 +246,7 @@ int runRender(const RenderFlags& flags) {
 
 }  // namespace
 
-void addRenderCommand(CLI::App& app, int& exitCode) {
+void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   auto flags = std::make_shared<RenderFlags>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene to OUT.exr and OUT.png");
   cmd->add_option("scene", flags->scene, "Scene file (JSON)")->required();
@@ -260,7 +279,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--convergence-csv", flags->convergenceCsv, "Where the convergence CSV goes");
   cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
   cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
-  cmd->callback([flags, &exitCode]() { exitCode = runRender(*flags); });
+  cmd->callback([flags, &exitCode, &team]() { exitCode = runRender(*flags, team); });
 }
 
 }  // namespace lvox

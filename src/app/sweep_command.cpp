@@ -222,7 +222,7 @@ void plot(const std::string& csvPath, const std::string& pngPath, const std::str
 }
 
 Image referenceImage(const SweepFlags& f, const SweepPlan& sweep, const Scene& scene,
-                     std::string& description) {
+                     std::string& description, Collective& team) {
   const Camera& camera = scene.world.camera;
   if (!f.reference.empty()) {
     Image ref = readExr(f.reference);
@@ -244,7 +244,72 @@ Image referenceImage(const SweepFlags& f, const SweepPlan& sweep, const Scene& s
   d << solverName(sweep.referenceSolver) << " at step " << fine.volume.step;
   description = d.str();
   Report report;
-  return renderScene(fine.job(), report);
+  RenderPlan whole;
+  whole.spp = fine.render.spp;
+  whole.team = &team;  // split over the ranks like any render
+  return renderScene(fine.job(), whole, report).image;
+}
+
+// A row's measured numbers, for the sum over ranks that brings every row to the root.
+constexpr size_t kRowNumbers = 13;
+void putRow(const SweepRow& r, double* v) {
+  const ImageError& e = r.error;
+  const double values[kRowNumbers] = {r.seconds,
+                                      static_cast<double>(r.mediumEvals),
+                                      static_cast<double>(r.steps),
+                                      static_cast<double>(r.rejected),
+                                      static_cast<double>(r.stabilityEvents),
+                                      static_cast<double>(r.capped),
+                                      static_cast<double>(r.invalid),
+                                      e.deltaPercent,
+                                      e.relMse,
+                                      e.rmse,
+                                      e.psnrDb,
+                                      e.maxAbs,
+                                      e.meanRatio};
+  std::copy(values, values + kRowNumbers, v);
+}
+void getRow(const double* v, SweepRow& r) {
+  const auto count = [](double x) { return static_cast<uint64_t>(std::llround(x)); };
+  r.seconds = v[0];
+  r.mediumEvals = count(v[1]);
+  r.steps = count(v[2]);
+  r.rejected = count(v[3]);
+  r.stabilityEvents = count(v[4]);
+  r.capped = count(v[5]);
+  r.invalid = count(v[6]);
+  r.error = ImageError{v[7], v[8], v[9], v[10], v[11], v[12]};
+}
+
+// Every rank renders the points it takes from the shared counter (one at a time: points
+// differ a hundredfold in cost) and keeps their images; the rows then reach every rank.
+// In one process this is the plain loop over the points.
+std::vector<SweepRow> renderPoints(const SweepFlags& f, const Scene& scene,
+                                   const std::vector<SweepPoint>& points, const Image& reference,
+                                   const SweepKeeper& keeper, Collective& team) {
+  std::vector<SweepRow> rows(points.size());
+  std::vector<double> numbers(points.size() * kRowNumbers, 0.0);
+  team.resetCounter();
+  for (uint64_t i = team.take(1); i < points.size(); i = team.take(1)) {
+    const SweepPoint& p = points[i];
+    Image image;
+    const SweepRow r = renderPoint(scene, p, reference, image);
+    putRow(r, &numbers[i * kRowNumbers]);
+    keeper.keepPoint(i, p.method.name(), std::string(nameOf(p.knob, kKnobNames)), p.value, image,
+                     reference);
+    if (!f.quiet)
+      std::fprintf(
+          stderr, "  %-16s %s %-9.4g %8.3f s %13llu evals  delta %.4f %%%s\n",
+          p.method.name().c_str(), std::string(nameOf(p.knob, kKnobNames)).c_str(), p.value,
+          r.seconds, static_cast<unsigned long long>(r.mediumEvals), r.error.deltaPercent,
+          team.distributed() ? (" (rank " + std::to_string(team.rank()) + ")").c_str() : "");
+  }
+  team.sum(numbers);  // every row was rendered by exactly one rank
+  for (size_t i = 0; i < points.size(); ++i) {
+    rows[i].point = points[i];
+    getRow(&numbers[i * kRowNumbers], rows[i]);
+  }
+  return rows;
 }
 
 // Parses every flag that names a method or sets a scene field, before the scene is read.
@@ -264,7 +329,7 @@ SweepPlan parseFlags(const SweepFlags& f) {
   return sweep;
 }
 
-int runSweep(const SweepFlags& f) {
+int runSweep(const SweepFlags& f, Collective& team) {
   const SweepPlan sweep = parseFlags(f);
   Scene scene = loadScene(f.scene, sweep.overrides);
   if (scene.render.mode == Mode::kMc)
@@ -279,25 +344,17 @@ int runSweep(const SweepFlags& f) {
   const SweepKeeper keeper(f.outDir, f.reference, scene.inputFiles);
 
   std::string refDescription;
-  const Image reference = referenceImage(f, sweep, scene, refDescription);
-  keeper.start(reference);
+  const Image reference = referenceImage(f, sweep, scene, refDescription, team);
+  if (team.isRoot()) keeper.start(reference);
+  team.barrier();  // start() clears old point images: no rank keeps one before
   const std::string mode(modeName(scene.render.mode));
-  if (!f.quiet)
-    std::fprintf(stderr, "lvox sweep: %zu renders of %s (%s mode) against %s\n", points.size(),
-                 fs::path(f.scene).filename().c_str(), mode.c_str(), refDescription.c_str());
-  std::vector<SweepRow> rows;
-  for (const SweepPoint& p : points) {
-    Image image;
-    rows.push_back(renderPoint(scene, p, reference, image));
-    keeper.keepPoint(rows.size() - 1, p.method.name(), std::string(nameOf(p.knob, kKnobNames)),
-                     p.value, image, reference);
-    const SweepRow& r = rows.back();
-    if (!f.quiet)
-      std::fprintf(stderr, "  %-16s %s %-9.4g %8.3f s %13llu evals  delta %.4f %%\n",
-                   p.method.name().c_str(), std::string(nameOf(p.knob, kKnobNames)).c_str(),
-                   p.value, r.seconds, static_cast<unsigned long long>(r.mediumEvals),
-                   r.error.deltaPercent);
-  }
+  if (!f.quiet && team.isRoot())
+    std::fprintf(
+        stderr, "lvox sweep: %zu renders of %s (%s mode) against %s%s\n", points.size(),
+        fs::path(f.scene).filename().c_str(), mode.c_str(), refDescription.c_str(),
+        team.distributed() ? (", over " + std::to_string(team.size()) + " ranks").c_str() : "");
+  std::vector<SweepRow> rows = renderPoints(f, scene, points, reference, keeper, team);
+  if (!team.isRoot()) return 0;  // the root writes the CSV, the plot and the report
   markPareto(
       rows, [](const SweepRow& r) { return r.seconds; }, &SweepRow::paretoTime);
   markPareto(
@@ -319,7 +376,7 @@ int runSweep(const SweepFlags& f) {
 
 }  // namespace
 
-void addSweepCommand(CLI::App& app, int& exitCode) {
+void addSweepCommand(CLI::App& app, int& exitCode, Collective& team) {
   auto f = std::make_shared<SweepFlags>();
   CLI::App* cmd = app.add_subcommand(
       "sweep", "Render a scene over solvers x steps/tolerances; CSV and plots of error vs cost");
@@ -353,7 +410,7 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
       "!--no-plot", f->plot,
       "No matplotlib plot (sweep.png); the CSV, images and report.html are still written");
   cmd->add_flag("-q,--quiet", f->quiet, "No progress lines");
-  cmd->callback([f, &exitCode]() { exitCode = runSweep(*f); });
+  cmd->callback([f, &exitCode, &team]() { exitCode = runSweep(*f, team); });
 }
 
 }  // namespace lvox

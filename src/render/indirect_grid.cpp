@@ -16,7 +16,7 @@ constexpr float kMaxReach = 2.0f;          // in grid spacings, along the surfac
 
 IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
                            const GatherOptions& options, int spacing, float filterRadius,
-                           uint64_t seed)
+                           uint64_t seed, Collective& team)
     : spacing_(std::max(1, spacing)), filterRadius_(std::max(1.0f, filterRadius)) {
   const Camera& camera = ctx.world.camera;
   // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
@@ -24,6 +24,9 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
   nx_ = (camera.width - 1) / spacing_ + 2;
   ny_ = (camera.height - 1) / spacing_ + 2;
   points_.resize(static_cast<size_t>(nx_ * ny_));
+  std::vector<RGB> irradiance(points_.size(), RGB(0.0f));
+  std::vector<char> hits(points_.size(), 0);
+  const long rank = team.rank(), ranks = team.size();
   tbb::parallel_for(long(0), ny_, [&](long j) {
     TraversalScratch scratch;
     for (long i = 0; i < nx_; ++i) {
@@ -41,11 +44,18 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
       // Neighbouring grid points on an oblique surface are further apart in the world.
       pt.reach = kMaxReach * static_cast<float>(spacing_) * pt.footprint /
                  std::max(std::abs(dot(ray.dir, hit.normal)), 0.25f);
+      hits[static_cast<size_t>(j * nx_ + i)] = 1;
+      if (j % ranks != rank) continue;  // another rank's row
       Rng rng(seed ^ 0x9a7e5u, static_cast<uint64_t>(j * nx_ + i));
-      pt.irradiance = gatherIrradiance(cloud, hit.point, hit.normal, options, rng, scratch);
-      pt.valid = isFinite(pt.irradiance);
+      irradiance[static_cast<size_t>(j * nx_ + i)] =
+          gatherIrradiance(cloud, hit.point, hit.normal, options, rng, scratch);
     }
   });
+  team.sum(floatsOf(irradiance));  // each point's from its row's rank, zeros from the others
+  for (size_t k = 0; k < points_.size(); ++k) {
+    points_[k].irradiance = irradiance[k];
+    points_[k].valid = hits[k] && isFinite(irradiance[k]);
+  }
 }
 
 bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradiance) const {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pointcloud/gather.h"
+#include "src/core/collective.h"
 #include "src/render/render_context.h"
 
 namespace lvox {
@@ -17,9 +18,11 @@ namespace lvox {
 class IndirectGrid {
  public:
   IndirectGrid() = default;
-  // Gathers `options.samples` rays at every grid point (parallel, deterministic).
+  // Gathers `options.samples` rays at every grid point (parallel, deterministic). Over
+  // several ranks each gathers the rows j with j % size == rank and the sums over the
+  // ranks give every rank the grid one process gathers.
   IndirectGrid(const RenderContext& ctx, const PointCloud& cloud, const GatherOptions& options,
-               int spacing, float filterRadius, uint64_t seed);
+               int spacing, float filterRadius, uint64_t seed, Collective& team = singleProcess());
 
   bool empty() const { return points_.empty(); }
   size_t pointCount() const { return points_.size(); }

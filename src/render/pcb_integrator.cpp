@@ -124,7 +124,7 @@ void removeBuried(const RenderContext& ctx, float burialReach, float spacing, Su
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
 // lvoxel cells (their light, pcb_media.h).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
-                 rte::SolveCounts& counts) {
+                 rte::SolveCounts& counts, Collective& team) {
   const World& world = ctx.world;
   PointCloud& cloud = *cache.cloud;
   LvoxelLight& lvoxelLight = cloud.mutableLvoxels().light;
@@ -147,7 +147,8 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
       },
       [&](const LvoxelLightQuery& q) {
         return phaseAveragedDirect(ctx.lights, lvoxelLight, q.slot);
-      });
+      },
+      team);
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
 }
 
@@ -183,7 +184,7 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
 
 PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
                                 const PointCloudSettings& settings, const std::string& sceneFile,
-                                Report& report) {
+                                Report& report, Collective& team) {
   const uint64_t seed = ctx.settings.seed;
   const float spacing = surfelSpacing(ctx.world, settings);
   checkSurfelMemory(ctx, settings, spacing, sceneFile);
@@ -217,7 +218,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   rte::SolveCounts counts;
   {
     PhaseTimer timer(report, "direct_cache");
-    cacheDirect(ctx, volume, cache, counts);
+    cacheDirect(ctx, volume, cache, counts, team);
   }
   const int passes = settings.bounces;
   if (passes > 0) {
@@ -234,11 +235,15 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                             "the interreflection's weights");
       };
     const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, reserve);
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, team,
+        reserve);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
     report.settings["interreflection_last_pass_change"] = std::to_string(stats.lastPassChange);
+    // Parts of "interreflection": the rest is the passes' products and updates.
+    report.times["interreflection_trace"] = stats.traceSeconds;
+    if (team.distributed()) report.times["interreflection_exchange"] = stats.exchangeSeconds;
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);
@@ -247,7 +252,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     const GatherOptions options =
         gatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
-                                 settings.gatherFilter, seed);
+                                 settings.gatherFilter, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
     report.add("grid_gather_rays",
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));

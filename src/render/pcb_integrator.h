@@ -11,6 +11,7 @@
 #include "pointcloud/point_cloud.h"
 #include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_lookup.h"
+#include "src/core/collective.h"
 #include "src/render/indirect_grid.h"
 #include "src/render/render_context.h"
 #include "src/render/report.h"
@@ -30,9 +31,13 @@ struct PointBasedCache {
 
 // Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of
 // `settings` in errors found only now (an lvoxel spacing far too small for the media).
+// Over several ranks (`team`), every rank samples the same cloud and lvoxel light from the
+// seed; the surfels' direct light, the interreflection's gathers and the screen grid's
+// gathers are split between them (light_cache.h, indirect_grid.h): each rank ends with
+// the cloud and caches one process builds.
 PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
                                 const PointCloudSettings& settings, const std::string& sceneFile,
-                                Report& report);
+                                Report& report, Collective& team = singleProcess());
 
 // Phase 2 for one camera sample.
 PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,

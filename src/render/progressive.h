@@ -6,6 +6,7 @@
 #include <atomic>
 #include <vector>
 
+#include "src/core/collective.h"
 #include "src/core/image.h"
 #include "src/core/image_metrics.h"
 #include "src/render/tile_renderer.h"
@@ -21,6 +22,8 @@ struct RenderPlan {
   // samples finished so far. With it, passes take about half a second, so little work is
   // lost and a stop is quick.
   const std::atomic<bool>* stop = nullptr;
+  // The processes the render is split over (distributed_render.h); null: this one alone.
+  Collective* team = nullptr;
 };
 
 struct ConvergencePoint {

@@ -2,14 +2,40 @@
 
 #include <tbb/global_control.h>
 
+#include <iterator>
 #include <memory>
+#include <vector>
 
 #include "src/render/direct_integrator.h"
+#include "src/render/distributed_render.h"
 #include "src/render/mc_integrator.h"
 #include "src/render/pcb_integrator.h"
 #include "src/render/volume_transport.h"
 
 namespace lvox {
+namespace {
+
+// Monte Carlo samples are independent whatever their number; the pcb sampler's gathers
+// per sample depend on the spp, so its pixels are split instead (distributed_render.h).
+RenderSplit distributedSplit(Mode mode) {
+  return mode == Mode::kMc ? RenderSplit::kSampleRanges : RenderSplit::kTileBands;
+}
+
+// Split over ranks, each counted its own share of the image: the report counts the whole.
+void sumOverRanks(SamplerCounters& counters, TileStats& stats, Collective& team) {
+  std::atomic<uint64_t>* const atomics[] = {
+      &counters.shadowRays,    &counters.pathRays,        &counters.paths,
+      &counters.gatherRays,    &counters.mediumEvals,     &counters.solverSteps,
+      &counters.rejectedSteps, &counters.stabilityEvents, &counters.cappedSegments};
+  std::vector<uint64_t> values{stats.samples, stats.invalidSamples};
+  for (const std::atomic<uint64_t>* a : atomics) values.push_back(a->load());
+  team.sum(values);
+  stats.samples = values[0];
+  stats.invalidSamples = values[1];
+  for (size_t i = 0; i < std::size(atomics); ++i) atomics[i]->store(values[i + 2]);
+}
+
+}  // namespace
 
 Image renderScene(const RenderJob& job, Report& report) {
   RenderPlan plan;
@@ -20,6 +46,7 @@ Image renderScene(const RenderJob& job, Report& report) {
 RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& report) {
   const World& world = job.world;
   const RenderSettings& settings = job.render;
+  Collective& team = plan.team ? *plan.team : singleProcess();
   std::unique_ptr<tbb::global_control> threads;
   if (settings.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -56,7 +83,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
       break;
     case Mode::kPcb:
     case Mode::kPcbSurfels:
-      pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report);
+      pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
       break;
     case Mode::kDirect:
@@ -67,9 +94,14 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   RenderResult result;
   {
     PhaseTimer timer(report, "render");
-    result = renderProgressive(world.camera.width, world.camera.height, settings.seed, sampler,
-                               plan, stats);
+    if (team.distributed())
+      result = renderDistributed(world.camera.width, world.camera.height, settings.seed, sampler,
+                                 plan, distributedSplit(settings.mode), team, stats, report);
+    else
+      result = renderProgressive(world.camera.width, world.camera.height, settings.seed, sampler,
+                                 plan, stats);
   }
+  if (team.distributed()) sumOverRanks(counters, stats, team);
   report.add("triangles", world.mesh.triangleCount());
   report.memory["budget"] = budget.limit();
   report.memory["budget_reserved"] = budget.reserved();
@@ -80,6 +112,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   report.settings["spp"] = std::to_string(result.sppDone);
   report.settings["first_sample"] = std::to_string(plan.firstSample);
   report.settings["seed"] = std::to_string(settings.seed);
+  if (team.distributed()) report.settings["ranks"] = std::to_string(team.size());
   // Every setting that changes the image, by its scene field (lvox merge compares them).
   for (const SettingList& list :
        {describe(job.render), describe(job.volume), describe(job.pointcloud)})

@@ -11,6 +11,7 @@ nlohmann::json Report::toJson() const {
   j["memory"] = memory;
   j["settings"] = settings;
   j["warnings"] = warnings;
+  if (!perRank.is_null()) j["ranks"] = perRank;
   return j;
 }
 

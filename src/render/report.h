@@ -16,6 +16,8 @@ struct Report {
   std::map<std::string, uint64_t> memory;  // bytes
   std::map<std::string, std::string> settings;
   std::vector<std::string> warnings;
+  // A run split over ranks: each rank's host and times (null in one process).
+  nlohmann::json perRank;
 
   void add(const std::string& count, uint64_t n) { counts[count] += n; }
   // A count, 0 when nothing was counted under that name.

@@ -32,12 +32,19 @@ void Progress::finish() {
 
 void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
                      const PixelSampler& sample, TileStats& stats, const char* label) {
+  accumulateRows(sum, 0, sum.height, firstSample, count, seed, sample, stats, label);
+}
+
+void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, int count,
+                    uint64_t seed, const PixelSampler& sample, TileStats& stats,
+                    const char* label) {
   constexpr int kTile = 16;
   const int width = sum.width;
-  Progress progress(label, static_cast<uint64_t>(width) * sum.height);
+  const int rows = rowEnd - rowBegin;
+  Progress progress(label, static_cast<uint64_t>(width) * rows);
   std::atomic<uint64_t> invalid{0};
   tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, sum.height, kTile, 0, width, kTile),
+      tbb::blocked_range2d<int>(rowBegin, rowEnd, kTile, 0, width, kTile),
       [&](const tbb::blocked_range2d<int>& tile) {
         uint64_t tileInvalid = 0;
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
@@ -58,7 +65,7 @@ void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
         progress.advance(static_cast<uint64_t>(tile.rows().size()) * tile.cols().size());
       });
   progress.finish();
-  stats.samples += static_cast<uint64_t>(width) * sum.height * static_cast<uint64_t>(count);
+  stats.samples += static_cast<uint64_t>(width) * rows * static_cast<uint64_t>(count);
   stats.invalidSamples += invalid.load();
 }
 

@@ -44,6 +44,10 @@ inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleInde
 // Adds samples [firstSample, firstSample + count) of every pixel to `sum` (unnormalised).
 void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
                      const PixelSampler& sample, TileStats& stats, const char* label = "render");
+// The same for the pixels of rows [rowBegin, rowEnd) only.
+void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, int count,
+                    uint64_t seed, const PixelSampler& sample, TileStats& stats,
+                    const char* label = "render");
 
 // The mean of samples [0, spp) of every pixel.
 Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,

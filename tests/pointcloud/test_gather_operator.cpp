@@ -152,13 +152,13 @@ TEST(GatherOperator, ReservesEveryBlockItStoresAndStopsWhenRefused) {
   };
   std::atomic<uint64_t> reserved{0};
   std::atomic<int> calls{0};
-  const GatherOperator op(pc, rows, record, [&](uint64_t bytes) {
+  const GatherOperator op(pc, rows, record, 0, 1, [&](uint64_t bytes) {
     reserved += bytes;
     ++calls;
   });
   EXPECT_EQ(calls.load(), 6);
   EXPECT_EQ(reserved.load(), op.memoryBytes());
-  EXPECT_THROW(GatherOperator(pc, rows, record,
+  EXPECT_THROW(GatherOperator(pc, rows, record, 0, 1,
                               [](uint64_t) { throw std::runtime_error("over budget"); }),
                std::runtime_error);
 }
