@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "src/core/sampling.h"
+#include "src/render/surface_albedo.h"
 
 namespace lvox {
 namespace {
@@ -29,7 +30,8 @@ RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const S
                const RGB& albedo, Rng& rng, PathCounters& counters) {
   RGB sum(0.0f);
   ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
-    const float cosTheta = dot(s.wi, hit.normal);
+    if (dot(s.wi, hit.normal) <= 0.0f) return;  // below the geometric surface
+    const float cosTheta = dot(s.wi, hit.shading);
     if (cosTheta <= 0.0f) return;
     ++counters.rays;
     const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
@@ -218,11 +220,12 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
       radiance += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
     }
     if (event > maxEvents) break;
-    radiance += throughput * surfaceNee(ctx, tracker, hit, m.albedo, rng, counters);
+    const RGB albedo = event == 1 ? cameraHitAlbedo(ctx, m, ray, hit) : hitAlbedo(ctx, m, hit);
+    radiance += throughput * surfaceNee(ctx, tracker, hit, albedo, rng, counters);
     // After the last allowed event the continuation ray is still traced: it can only add
     // emission (the MIS complement of this vertex's NEE), never another scattering.
     // Cosine-weighted continuation: f cos / pdf = albedo.
-    throughput *= m.albedo;
+    throughput *= albedo;
     if (event >= 3) {
       const float survive = std::min(1.0f, maxComponent(throughput));
       if (rng.uniform() >= survive) break;
@@ -231,7 +234,11 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
     if (isBlack(throughput)) break;
     const Vec3 local = cosineHemisphere(rng.uniform(), rng.uniform());
     bsdfPdf = cosineHemispherePdf(local.z);
-    ray = ctx.spawn(hit.point, hit.normal, Frame(hit.normal).toWorld(local));
+    // Sampled about the shading normal; a direction below the geometric surface ends the
+    // path (smooth normals must not let light through the geometry).
+    const Vec3 next = Frame(hit.shading).toWorld(local);
+    if (dot(next, hit.normal) <= 0.0f) break;
+    ray = ctx.spawn(hit.point, hit.normal, next);
   }
   return radiance;
 }
