@@ -118,7 +118,9 @@ std::optional<Camera> firstCamera(const aiScene& ai, const Transform& xf) {
   const aiCamera& c = *ai.mCameras[0];
   const Transform t = xf * globalTransform(ai.mRootNode->FindNode(c.mName));
   Camera cam;
-  cam.position = t.point(Vec3(c.mPosition.x, c.mPosition.y, c.mPosition.z));
+  // assimp 5.2 also copies the camera node's translation into mPosition: the node's
+  // transform alone places the camera (a glTF camera sits at its node's origin).
+  cam.position = t.point(Vec3(0.0f));
   cam.lookAt = cam.position + t.vector(Vec3(c.mLookAt.x, c.mLookAt.y, c.mLookAt.z));
   cam.up = t.vector(Vec3(c.mUp.x, c.mUp.y, c.mUp.z));
   // assimp 5.2 stores glTF's yfov times the aspect ratio as the "horizontal" field of view.
