@@ -22,7 +22,7 @@ PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volu
                                              static_cast<float>(y) + rng.uniform());
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
-    RGB behind = ctx.lights.environment();
+    RGB behind = ctx.lights.environment(ray.dir);
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];

@@ -25,7 +25,8 @@ RGB shadowTransmittance(const MajorantTracker& tracker, const Ray& shadow, Rng& 
 // Next-event estimation at a surface vertex. Area-light samples are weighted against
 // cosine-sampled continuation rays that hit the same emitter (power heuristic): alone,
 // either has unbounded variance somewhere (NEE next to an emitter, 1/d^2; continuation
-// towards small emitters). Delta lights and the environment come from NEE only.
+// towards small emitters). Delta lights and a constant environment come from NEE only; an
+// environment map's samples are weighted against continuation rays that escape, as emitters.
 RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const SurfaceHit& hit,
                const RGB& albedo, Rng& rng, PathCounters& counters) {
   RGB sum(0.0f);
@@ -36,7 +37,8 @@ RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const S
     ++counters.rays;
     const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
     if (ctx.tracer.occluded(shadow)) return;
-    const float weight = s.fromEmitter ? powerHeuristic(s.pdf, cosTheta * kInvPi) : 1.0f;
+    const float weight =
+        s.fromEmitter || s.fromEnvironment ? powerHeuristic(s.pdf, cosTheta * kInvPi) : 1.0f;
     sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) * (cosTheta * weight);
   });
   return albedo * sum * kInvPi;
@@ -171,7 +173,8 @@ Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd,
 }
 
 // Emitters hit by continuation rays count with the MIS weight that complements
-// surfaceNee; escaping continuation rays add nothing (the environment is NEE only).
+// surfaceNee; escaping continuation rays add an environment map's radiance the same way
+// (a constant environment is NEE only).
 RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
               PathCounters& counters) {
   const World& world = ctx.world;
@@ -209,7 +212,12 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
       }
     }
     if (!hitSurface) {
-      if (event == 1) radiance += throughput * ctx.lights.environment();
+      const EnvironmentMap* map = ctx.lights.environmentMap();
+      if (event == 1)
+        radiance += throughput * ctx.lights.environment(ray.dir);
+      else if (map && bsdfPdf > 0.0f)  // the MIS complement of the map's NEE samples
+        radiance +=
+            throughput * map->radiance(ray.dir) * powerHeuristic(bsdfPdf, map->pdf(ray.dir));
       break;
     }
     const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];

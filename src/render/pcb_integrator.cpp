@@ -211,7 +211,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
-    RGB behind = ctx.lights.environment();
+    RGB behind = ctx.lights.environment(ray.dir);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;

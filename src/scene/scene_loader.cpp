@@ -150,6 +150,15 @@ Scene parseScene(const std::string& text, const std::string& path,
     if (!fileCamera) throw InputError(path, "camera", "missing (and no glTF shape has a camera)");
     scene.world.camera = *fileCamera;
   }
+  for (size_t i = 0; i < scene.world.lights.size(); ++i) {
+    const Light& light = scene.world.lights[i];
+    if (light.file.empty()) continue;
+    const std::string field = indexed("lights", i) + ".file";
+    if (scene.world.environmentMap) throw InputError(path, field, "only one environment map");
+    scene.world.environmentMap =
+        std::make_shared<EnvironmentMap>(light.file, light.intensity, path, field);
+    scene.inputFiles.push_back(light.file);
+  }
   // Textures are inputs too: no output may replace one, and the scene hash covers them.
   for (const TextureFile& t : scene.world.textures) scene.inputFiles.push_back(t.path);
   return scene;

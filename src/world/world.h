@@ -2,11 +2,13 @@
 // The world of a scene: camera, materials, surfaces and lights, after validation. Geometry
 // is flattened into one triangle mesh in world space.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "src/core/math.h"
+#include "src/world/environment_map.h"
 
 namespace lvox {
 
@@ -87,6 +89,7 @@ struct Light {
                              // W/(m^2 sr) radiance for the environment
   float coneDeg = 30.0f;     // spot: angle from the axis to the edge
   float falloffDeg = 5.0f;   // spot: width of the smooth edge
+  std::string file;          // environment: a lat-long map (then `intensity` scales it)
 
   // Spot falloff: 1 inside cone-falloff, smoothstep in cos to 0 at the cone edge.
   float spotFactor(const Vec3& dirFromLight) const;
@@ -101,6 +104,8 @@ struct World {
   TriangleMesh mesh;
   std::vector<Light> lights;
   std::vector<TextureFile> textures;  // every image materials read, each once
+  // The environment lights' lat-long map (at most one), loaded with the scene.
+  std::shared_ptr<const EnvironmentMap> environmentMap;
 
   // Index of `file` in `textures`, added if new.
   int textureIndex(const TextureFile& file);

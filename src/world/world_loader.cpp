@@ -181,7 +181,12 @@ Light parseLight(JsonObject l) {
           l.number("falloff_deg", 0.0f, light.coneDeg, std::min(5.0f, light.coneDeg));
       break;
     case LightType::Environment:
-      light.intensity = l.rgb("radiance", 0.0f, 1e9f);
+      if (l.has("file")) {
+        light.file = l.filePath("file");  // read by the scene loader, with the meshes
+        light.intensity = l.rgb("radiance", 0.0f, 1e9f, RGB(1.0f));
+      } else {
+        light.intensity = l.rgb("radiance", 0.0f, 1e9f);
+      }
       break;
   }
   l.finish();
