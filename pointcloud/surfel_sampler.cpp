@@ -316,7 +316,8 @@ const Material& materialOf(const TriangleMesh& mesh, const std::vector<Material>
 }  // namespace
 
 SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Material>& materials,
-                               const UniformSurfelSettings& settings) {
+                               const UniformSurfelSettings& settings,
+                               const SurfaceTextures* textures) {
   if (!(settings.spacing > 0.0f) || !std::isfinite(settings.spacing))
     throw InputError(kSettingsName, "surfel_spacing", "must be a positive number");
   if (!(settings.radiusScale >= 1.0f))
@@ -328,11 +329,19 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
 
   // Pass 1 counts each triangle's surfels, pass 2 writes them at the prefix offsets:
   // the result is independent of the thread schedule.
+  // No surfel stands on a cut-away texel (both passes ask the same question).
+  auto cutAway = [&](size_t tri, const Vec3& p) {
+    if (!textures || !textures->hasCutout(static_cast<uint32_t>(tri))) return false;
+    const Vec2 b = mesh.barycentricOf(tri, p);
+    return textures->isCutAway(static_cast<uint32_t>(tri), b.x, b.y);
+  };
   std::vector<size_t> offsets(n + 1, 0);
   tbb::parallel_for(size_t(0), n, [&](size_t tri) {
     size_t c = 0;
     trianglePoints(triangleInfo(mesh, tri), tri, smallCounts[tri], borders[tri], settings,
-                   [&](const Vec3&, const DiskClip&) { ++c; });
+                   [&](const Vec3& p, const DiskClip&) {
+                     if (!cutAway(tri, p)) ++c;
+                   });
     offsets[tri + 1] = c;
   });
   for (size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
@@ -343,18 +352,26 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
   const float radius = diskRadius(settings);
   tbb::parallel_for(size_t(0), n, [&](size_t tri) {
     const TriangleInfo t = triangleInfo(mesh, tri);
-    const RGB albedo = materialOf(mesh, materials, tri).albedo;
+    const Material& material = materialOf(mesh, materials, tri);
+    const bool textured = textures && material.albedoMap >= 0;
     size_t k = offsets[tri];
-    trianglePoints(t, tri, smallCounts[tri], borders[tri], settings,
-                   [&](const Vec3& p, const DiskClip& clip) {
-                     surfels.position[k] = p;
-                     surfels.clip[k] = clip;
-                     surfels.normal[k] = t.unitNormal;
-                     surfels.radius[k] = radius;
-                     surfels.albedo[k] = albedo;
-                     surfels.triangle[k] = static_cast<uint32_t>(tri);
-                     ++k;
-                   });
+    trianglePoints(
+        t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p, const DiskClip& clip) {
+          if (cutAway(tri, p)) return;
+          RGB albedo = material.albedo;
+          if (textured) {
+            // The albedo the surfel's disk averages, for the interreflection.
+            const Vec2 b = mesh.barycentricOf(tri, p);
+            albedo = textures->albedoOverDisk(static_cast<uint32_t>(tri), b.x, b.y, radius);
+          }
+          surfels.position[k] = p;
+          surfels.clip[k] = clip;
+          surfels.normal[k] = t.unitNormal;
+          surfels.radius[k] = radius;
+          surfels.albedo[k] = albedo;
+          surfels.triangle[k] = static_cast<uint32_t>(tri);
+          ++k;
+        });
   });
   return surfels;
 }
@@ -365,6 +382,7 @@ struct CameraSample {
   Vec3 position, normal;
   float radius;
   uint32_t triangle;
+  float b1, b2;
 };
 
 }  // namespace
@@ -400,8 +418,8 @@ SurfelSet sampleSurfelsFromCamera(const RayTracer& tracer, const std::vector<Mat
       const float solidAngle = side * side * cosAxis * cosAxis * cosAxis;
       const float cosSurface = std::max(std::abs(dot(ray.dir, hit.normal)), minCos);
       const float area = solidAngle * hit.t * hit.t / cosSurface;
-      rows[iy].push_back(
-          {hit.point, hit.normal, std::sqrt(area / kPi) * settings.radiusScale, hit.triangle});
+      rows[iy].push_back({hit.point, hit.normal, std::sqrt(area / kPi) * settings.radiusScale,
+                          hit.triangle, hit.b1, hit.b2});
     }
   });
 
@@ -416,7 +434,10 @@ SurfelSet sampleSurfelsFromCamera(const RayTracer& tracer, const std::vector<Mat
       surfels.position[k] = s.position;
       surfels.normal[k] = s.normal;
       surfels.radius[k] = s.radius;
-      surfels.albedo[k] = materialOf(tracer.mesh(), materials, s.triangle).albedo;
+      const Material& m = materialOf(tracer.mesh(), materials, s.triangle);
+      surfels.albedo[k] = m.albedoMap >= 0 && tracer.textures()
+                              ? tracer.textures()->albedoOverDisk(s.triangle, s.b1, s.b2, s.radius)
+                              : m.albedo;
       surfels.triangle[k] = s.triangle;
       ++k;
     }

@@ -23,8 +23,11 @@ struct UniformSurfelSettings {
 };
 inline constexpr float kLatticeMinSurfels = 4.0f;
 
+// With `textures`, surfels take the albedo their disk averages and none stands on a
+// cut-away texel.
 SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Material>& materials,
-                               const UniformSurfelSettings& settings);
+                               const UniformSurfelSettings& settings,
+                               const SurfaceTextures* textures = nullptr);
 
 // Camera-based (Gibson 2011): one surfel per hit of a jittered ray grid through a frustum
 // `margin` wider than the view (each side grows by margin/2), at `rate` rays per pixel

@@ -12,6 +12,7 @@
 
 namespace lvox {
 
+using Vec2 = Imath::V2f;
 using Vec3 = Imath::V3f;
 using Vec3d = Imath::V3d;
 using RGB = Imath::C3f;

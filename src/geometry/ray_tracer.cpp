@@ -5,12 +5,27 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace lvox {
+
+// The triangles of one Embree geometry, and where the cut-out filter finds them.
+struct CutoutGeometry {
+  const SurfaceTextures* textures = nullptr;
+  std::vector<uint32_t> triangles;  // mesh triangle of each primitive
+};
 
 struct RayTracer::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  // Geometry 0 holds every triangle, in mesh order, unless some have cut-outs: then
+  // geometry 0 holds the others and geometry 1 those, each mapping primitives back.
+  std::vector<uint32_t> opaqueTriangles;  // empty: primitive = mesh triangle
+  CutoutGeometry cutouts;
+  uint32_t triangleOf(unsigned geomID, unsigned primID) const {
+    if (geomID == 1) return cutouts.triangles[primID];
+    return opaqueTriangles.empty() ? primID : opaqueTriangles[primID];
+  }
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -42,30 +57,67 @@ RTCRay makeRay(const Ray& ray) {
   return r;
 }
 
+// Rejects candidate hits on cut-away texels (closest hits and shadow rays).
+void cutoutFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* geometry = static_cast<const CutoutGeometry*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const uint32_t tri = geometry->triangles[RTCHitN_primID(args->hit, args->N, i)];
+    if (geometry->textures->isCutAway(tri, RTCHitN_u(args->hit, args->N, i),
+                                      RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+
+void attachTriangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh,
+                     const std::vector<uint32_t>* subset, CutoutGeometry* cutouts,
+                     unsigned geomID) {
+  const size_t count = subset ? subset->size() : mesh.triangleCount();
+  if (count == 0) return;
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree-owned copies: Embree pads them as its SIMD loads require.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.positions.size()));
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.positions[i][k];
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
+  if (subset) {
+    for (size_t p = 0; p < count; ++p)
+      for (int k = 0; k < 3; ++k) indices[3 * p + k] = mesh.indices[3 * (*subset)[p] + k];
+  } else {
+    std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
+  }
+  if (cutouts) {
+    rtcSetGeometryUserData(geom, cutouts);
+    rtcSetGeometryIntersectFilterFunction(geom, cutoutFilter);
+    rtcSetGeometryOccludedFilterFunction(geom, cutoutFilter);
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(scene, geom, geomID);
+  rtcReleaseGeometry(geom);
+}
+
 }  // namespace
 
-RayTracer::RayTracer(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()), mesh_(mesh) {
+RayTracer::RayTracer(const TriangleMesh& mesh, const SurfaceTextures* textures)
+    : impl_(std::make_unique<Impl>()), mesh_(mesh), textures_(textures) {
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
   // Robust traversal: no rays slip through shared triangle edges.
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-  if (mesh.triangleCount() > 0) {
-    RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree-owned copies: Embree pads them as its SIMD loads require.
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), mesh.positions.size()));
-    for (size_t i = 0; i < mesh.positions.size(); ++i)
-      for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.positions[i][k];
-    auto* indices = static_cast<uint32_t*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(uint32_t), mesh.triangleCount()));
-    std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(impl_->scene, geom);
-    rtcReleaseGeometry(geom);
+  if (textures && textures->anyCutouts()) {
+    impl_->cutouts.textures = textures;
+    for (uint32_t t = 0; t < mesh.triangleCount(); ++t)
+      (textures->hasCutout(t) ? impl_->cutouts.triangles : impl_->opaqueTriangles).push_back(t);
+    attachTriangles(impl_->device, impl_->scene, mesh, &impl_->opaqueTriangles, nullptr, 0);
+    attachTriangles(impl_->device, impl_->scene, mesh, &impl_->cutouts.triangles, &impl_->cutouts,
+                    1);
+  } else {
+    attachTriangles(impl_->device, impl_->scene, mesh, nullptr, nullptr, 0);
   }
   rtcCommitScene(impl_->scene);
   throwOnDeviceError(impl_->device, "BVH build");
@@ -94,12 +146,20 @@ bool RayTracer::intersect(const Ray& ray, SurfaceHit& hit) const {
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
-  hit.triangle = rh.hit.primID;
+  hit.triangle = impl_->triangleOf(rh.hit.geomID, rh.hit.primID);
   hit.point = ray.at(hit.t);
+  hit.b1 = rh.hit.u;
+  hit.b2 = rh.hit.v;
   const Vec3 a = mesh_.vertex(hit.triangle, 0);
   Vec3 n = normalize(cross(mesh_.vertex(hit.triangle, 1) - a, mesh_.vertex(hit.triangle, 2) - a));
   if (dot(n, ray.dir) > 0.0f) n = -n;
   hit.normal = n;
+  hit.shading = n;
+  if (!mesh_.normals.empty()) {
+    // Smooth normals shade on the side the ray sees, like the geometric one.
+    const Vec3 s = mesh_.shadingNormalAt(hit.triangle, hit.b1, hit.b2);
+    hit.shading = dot(s, n) < 0.0f ? -s : s;
+  }
   return true;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "src/world/surface_textures.h"
 #include "src/world/world.h"
 
 namespace lvox {
@@ -11,12 +12,17 @@ struct SurfaceHit {
   float t = kInf;
   uint32_t triangle = 0;
   Vec3 point;
-  Vec3 normal;  // geometric, unit, facing the incoming ray (surfaces are two-sided)
+  Vec3 normal;   // geometric, unit, facing the incoming ray (surfaces are two-sided)
+  Vec3 shading;  // shading normal (the mesh's smooth normals, else `normal`), same side
+  float b1 = 0.0f, b2 = 0.0f;  // barycentrics of the triangle's second and third vertex
 };
 
 class RayTracer {
  public:
-  explicit RayTracer(const TriangleMesh& mesh);
+  // With `textures`, triangles whose material has a cut-out mask are transparent where the
+  // mask is below 1/2, for closest hits and shadow rays alike (Embree filter functions,
+  // registered only on the geometry that holds such triangles).
+  explicit RayTracer(const TriangleMesh& mesh, const SurfaceTextures* textures = nullptr);
   ~RayTracer();
   RayTracer(const RayTracer&) = delete;
   RayTracer& operator=(const RayTracer&) = delete;
@@ -28,11 +34,14 @@ class RayTracer {
   // Offset that keeps secondary rays off the surface they start on (scales with the scene).
   float epsilon() const { return epsilon_; }
   const TriangleMesh& mesh() const { return mesh_; }
+  // The scene's textures (nullptr: none given).
+  const SurfaceTextures* textures() const { return textures_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   const TriangleMesh& mesh_;
+  const SurfaceTextures* textures_ = nullptr;
   float epsilon_ = 1e-4f;
 };
 

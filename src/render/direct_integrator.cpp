@@ -1,5 +1,6 @@
 #include "src/render/direct_integrator.h"
 
+#include "src/render/surface_albedo.h"
 #include "src/render/surface_direct.h"
 
 namespace lvox {
@@ -21,7 +22,7 @@ PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volu
                                              static_cast<float>(y) + rng.uniform());
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
-    RGB behind = ctx.lights.environment();
+    RGB behind = ctx.lights.environment(ray.dir);
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
@@ -29,7 +30,8 @@ PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volu
       auto throughMedia = [&](const Ray& shadow) {
         return volume.transmittance(shadow, solveCounts);
       };
-      behind = m.emission + surfaceDirect(ctx, hit, m.albedo, rng, throughMedia, shadowRays);
+      behind = m.emission + surfaceDirect(ctx, hit, cameraHitAlbedo(ctx, m, ray, hit), rng,
+                                          throughMedia, shadowRays);
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
     }
     const RGB l = volume.radiance(ray, hitSurface ? hit.t : kInf, behind, rng, solveCounts);

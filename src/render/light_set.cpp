@@ -6,9 +6,12 @@ namespace lvox {
 
 LightSet::LightSet(const World& world, int areaSamples)
     : world_(world), areaSamples_(std::max(1, areaSamples)) {
+  if (world.environmentMap && !world.environmentMap->black()) map_ = world.environmentMap.get();
   for (const Light& l : world.lights) {
-    if (l.type == LightType::Environment)
+    if (l.type == LightType::Environment && l.file.empty())
       environment_ += l.intensity;
+    else if (l.type == LightType::Environment)
+      continue;  // the map: its intensity scaled it on load
     else
       lights_.push_back(l);
   }

@@ -17,8 +17,9 @@ struct LightSample {
   Vec3 wi;
   float distance = kInf;
   RGB radiance{0.0f};
-  bool fromEmitter = false;  // an area-light sample: its distance ends on the emitter
-  float pdf = 0.0f;          // solid-angle pdf of an area-light sample (for MIS)
+  bool fromEmitter = false;      // an area-light sample: its distance ends on the emitter
+  bool fromEnvironment = false;  // an environment-map sample (importance-sampled)
+  float pdf = 0.0f;  // solid-angle pdf of an area-light or environment-map sample (for MIS)
 };
 
 class LightSet {
@@ -27,8 +28,9 @@ class LightSet {
 
   // Calls f(sample) for each light sample seen from `p`. Delta lights give one sample
   // each; area and environment lights give `areaSamples` samples each, weighted 1/N.
-  // With `normal`, the environment is sampled cosine-weighted about it (surfaces);
-  // without, uniformly over the sphere (media).
+  // With `normal`, a constant environment is sampled cosine-weighted about it (surfaces);
+  // without, uniformly over the sphere (media). An environment map is importance-sampled
+  // by its own radiance.
   template <class F>
   void forEachSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
     forEachDeltaSample(p, f);
@@ -45,6 +47,12 @@ class LightSet {
   float emissiveArea() const { return totalArea_; }
   const std::vector<Light>& lights() const { return lights_; }
   RGB environment() const { return environment_; }
+  // Radiance of the environment (constant and map) from direction `dir`.
+  RGB environment(const Vec3& dir) const {
+    return map_ ? environment_ + map_->radiance(dir) : environment_;
+  }
+  // The environment's lat-long map, importance-sampled by forEachAreaSample (nullptr: none).
+  const EnvironmentMap* environmentMap() const { return map_; }
 
   // Unoccluded sample of one point/spot/directional light at p.
   LightSample sampleDelta(const Light& light, const Vec3& p) const;
@@ -59,6 +67,7 @@ class LightSet {
   const World& world_;
   std::vector<Light> lights_;  // point, spot, directional
   RGB environment_{0.0f};
+  const EnvironmentMap* map_ = nullptr;
   std::vector<uint32_t> emissiveTriangles_;
   std::vector<float> areaCdf_;  // cumulative area, normalised to end at 1
   float totalArea_ = 0.0f;
@@ -91,6 +100,17 @@ void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&
         s.wi = uniformSphere(u1, u2);
         s.radiance = environment_ * (weight / kUniformSpherePdf);
       }
+      f(s);
+    }
+  }
+  if (map_) {
+    for (int i = 0; i < areaSamples_; ++i) {
+      LightSample s;
+      const float u1 = rng.uniform(), u2 = rng.uniform();
+      s.wi = map_->sample(u1, u2, s.pdf);
+      if (!(s.pdf > 0.0f)) continue;
+      s.radiance = map_->radiance(s.wi) * (weight / s.pdf);
+      s.fromEnvironment = true;
       f(s);
     }
   }

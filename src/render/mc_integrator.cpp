@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "src/core/sampling.h"
+#include "src/render/surface_albedo.h"
 
 namespace lvox {
 namespace {
@@ -24,17 +25,20 @@ RGB shadowTransmittance(const MajorantTracker& tracker, const Ray& shadow, Rng& 
 // Next-event estimation at a surface vertex. Area-light samples are weighted against
 // cosine-sampled continuation rays that hit the same emitter (power heuristic): alone,
 // either has unbounded variance somewhere (NEE next to an emitter, 1/d^2; continuation
-// towards small emitters). Delta lights and the environment come from NEE only.
+// towards small emitters). Delta lights and a constant environment come from NEE only; an
+// environment map's samples are weighted against continuation rays that escape, as emitters.
 RGB surfaceNee(const RenderContext& ctx, const MajorantTracker& tracker, const SurfaceHit& hit,
                const RGB& albedo, Rng& rng, PathCounters& counters) {
   RGB sum(0.0f);
   ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
-    const float cosTheta = dot(s.wi, hit.normal);
+    if (dot(s.wi, hit.normal) <= 0.0f) return;  // below the geometric surface
+    const float cosTheta = dot(s.wi, hit.shading);
     if (cosTheta <= 0.0f) return;
     ++counters.rays;
     const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
     if (ctx.tracer.occluded(shadow)) return;
-    const float weight = s.fromEmitter ? powerHeuristic(s.pdf, cosTheta * kInvPi) : 1.0f;
+    const float weight =
+        s.fromEmitter || s.fromEnvironment ? powerHeuristic(s.pdf, cosTheta * kInvPi) : 1.0f;
     sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) * (cosTheta * weight);
   });
   return albedo * sum * kInvPi;
@@ -169,7 +173,8 @@ Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd,
 }
 
 // Emitters hit by continuation rays count with the MIS weight that complements
-// surfaceNee; escaping continuation rays add nothing (the environment is NEE only).
+// surfaceNee; escaping continuation rays add an environment map's radiance the same way
+// (a constant environment is NEE only).
 RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
               PathCounters& counters) {
   const World& world = ctx.world;
@@ -207,7 +212,12 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
       }
     }
     if (!hitSurface) {
-      if (event == 1) radiance += throughput * ctx.lights.environment();
+      const EnvironmentMap* map = ctx.lights.environmentMap();
+      if (event == 1)
+        radiance += throughput * ctx.lights.environment(ray.dir);
+      else if (map && bsdfPdf > 0.0f)  // the MIS complement of the map's NEE samples
+        radiance +=
+            throughput * map->radiance(ray.dir) * powerHeuristic(bsdfPdf, map->pdf(ray.dir));
       break;
     }
     const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
@@ -218,11 +228,12 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
       radiance += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
     }
     if (event > maxEvents) break;
-    radiance += throughput * surfaceNee(ctx, tracker, hit, m.albedo, rng, counters);
+    const RGB albedo = event == 1 ? cameraHitAlbedo(ctx, m, ray, hit) : hitAlbedo(ctx, m, hit);
+    radiance += throughput * surfaceNee(ctx, tracker, hit, albedo, rng, counters);
     // After the last allowed event the continuation ray is still traced: it can only add
     // emission (the MIS complement of this vertex's NEE), never another scattering.
     // Cosine-weighted continuation: f cos / pdf = albedo.
-    throughput *= m.albedo;
+    throughput *= albedo;
     if (event >= 3) {
       const float survive = std::min(1.0f, maxComponent(throughput));
       if (rng.uniform() >= survive) break;
@@ -231,7 +242,11 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
     if (isBlack(throughput)) break;
     const Vec3 local = cosineHemisphere(rng.uniform(), rng.uniform());
     bsdfPdf = cosineHemispherePdf(local.z);
-    ray = ctx.spawn(hit.point, hit.normal, Frame(hit.normal).toWorld(local));
+    // Sampled about the shading normal; a direction below the geometric surface ends the
+    // path (smooth normals must not let light through the geometry).
+    const Vec3 next = Frame(hit.shading).toWorld(local);
+    if (dot(next, hit.normal) <= 0.0f) break;
+    ray = ctx.spawn(hit.point, hit.normal, next);
   }
   return radiance;
 }

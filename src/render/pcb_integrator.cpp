@@ -12,6 +12,7 @@
 #include "src/core/error.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/pcb_media.h"
+#include "src/render/surface_albedo.h"
 #include "src/render/surface_direct.h"
 
 namespace lvox {
@@ -109,7 +110,7 @@ SurfelSet sampleSurfels(const RenderContext& ctx, SurfelSamplerKind sampler, flo
   UniformSurfelSettings settings;
   settings.spacing = spacing;
   settings.seed = ctx.settings.seed;
-  return sampleSurfelsUniform(world.mesh, world.materials, settings);
+  return sampleSurfelsUniform(world.mesh, world.materials, settings, ctx.tracer.textures());
 }
 
 void removeBuried(const RenderContext& ctx, float burialReach, float spacing, SurfelSet& surfels,
@@ -136,6 +137,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         SurfaceHit hit;
         hit.point = q.position;
         hit.normal = q.normal;
+        hit.shading = q.normal;
         Rng rng(ctx.settings.seed ^ 0x5eedu,
                 (static_cast<uint64_t>(q.index) << 1) |
                     (dot(q.normal, cloud.surfels().normal[q.index]) < 0));
@@ -274,14 +276,17 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
-    RGB behind = ctx.lights.environment();
+    RGB behind = ctx.lights.environment(ray.dir);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;
       auto throughMedia = [&](const Ray& shadow) {
         return volume.transmittance(shadow, solveCounts);
       };
-      const RGB direct = surfaceDirect(ctx, hit, m.albedo, rng, throughMedia, shadowRays);
+      // The cloud carries irradiance; the texture multiplies it here, at the pixel's own
+      // footprint, so texture detail is never blurred to the surfel spacing.
+      const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
+      const RGB direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays);
       RGB irradiance;
       if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
         thread_local TraversalScratch scratch;
@@ -290,7 +295,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                                       std::memory_order_relaxed);
       }
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-      behind = m.emission + direct + m.albedo * irradiance * kInvPi;
+      behind = m.emission + direct + albedo * irradiance * kInvPi;
     }
     const float tEnd = hitSurface ? hit.t : kInf;
     RGB l;

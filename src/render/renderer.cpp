@@ -51,10 +51,12 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   if (settings.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     static_cast<size_t>(settings.threads));
+  // One texture system per render, shared by every thread (none without textures).
+  const SurfaceTextures textures(world);
   std::unique_ptr<RayTracer> tracer;
   {
     PhaseTimer timer(report, "bvh_build");
-    tracer = std::make_unique<RayTracer>(world.mesh);
+    tracer = std::make_unique<RayTracer>(world.mesh, textures.empty() ? nullptr : &textures);
   }
   const LightSet lights(world, settings.areaLightSamples);
   const LightSet singleSampleLights(world, 1);

@@ -4,15 +4,17 @@
 
 namespace lvox {
 
-// Reflected radiance rho/pi * sum_lights Li cos(theta) V. `transmittance(ray)` gives the
-// fraction of light that survives the media along an unoccluded shadow ray (1 without
-// media); it is only called for rays that no surface blocks.
+// Reflected radiance rho/pi * sum_lights Li cos(theta) V, theta from the shading normal.
+// `transmittance(ray)` gives the fraction of light that survives the media along an unoccluded
+// shadow ray (1 without media); it is only called for rays that no surface blocks.
 template <class Transmittance>
 RGB surfaceDirect(const RenderContext& ctx, const SurfaceHit& hit, const RGB& albedo, Rng& rng,
                   Transmittance&& transmittance, uint64_t& shadowRays) {
   RGB sum(0.0f);
   ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
-    const float cosTheta = dot(s.wi, hit.normal);
+    // The geometric normal decides visibility, the shading normal the cosine.
+    if (dot(s.wi, hit.normal) <= 0.0f) return;
+    const float cosTheta = dot(s.wi, hit.shading);
     if (cosTheta <= 0.0f) return;
     const Ray shadow = ctx.spawn(hit.point, hit.normal, s.wi, s.distance);
     ++shadowRays;

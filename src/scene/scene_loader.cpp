@@ -108,7 +108,8 @@ std::shared_ptr<FlagSources> applyOverrides(json& root, const std::string& path,
 
 // The sections that hold settings, media and lights, in full: nothing here loads a file.
 void parseSettings(JsonObject& top, Scene& scene) {
-  scene.world.camera = parseCamera(top.object("camera"));
+  // Without a "camera" section the scene takes a glTF shape's camera (parseScene).
+  if (top.has("camera")) scene.world.camera = parseCamera(top.object("camera"));
   if (top.has("render")) scene.render = parseRenderSettings(top.object("render"));
   if (top.has("volume_integrator"))
     scene.volume = parseVolumeSettings(top.object("volume_integrator"));
@@ -141,8 +142,25 @@ Scene parseScene(const std::string& text, const std::string& path,
   if (top.has("materials")) parseMaterials(top.object("materials"), scene.world);
   const std::vector<json> shapes = top.array("shapes");
   top.finish();  // a misspelled section fails before any mesh is read
+  std::optional<Camera> fileCamera;
   for (size_t i = 0; i < shapes.size(); ++i)
-    parseShape(JsonObject(shapes[i], path, indexed("shapes", i)), scene.world, scene.inputFiles);
+    parseShape(JsonObject(shapes[i], path, indexed("shapes", i)), scene.world, scene.inputFiles,
+               fileCamera);
+  if (!root.contains("camera")) {
+    if (!fileCamera) throw InputError(path, "camera", "missing (and no glTF shape has a camera)");
+    scene.world.camera = *fileCamera;
+  }
+  for (size_t i = 0; i < scene.world.lights.size(); ++i) {
+    const Light& light = scene.world.lights[i];
+    if (light.file.empty()) continue;
+    const std::string field = indexed("lights", i) + ".file";
+    if (scene.world.environmentMap) throw InputError(path, field, "only one environment map");
+    scene.world.environmentMap =
+        std::make_shared<EnvironmentMap>(light.file, light.intensity, path, field);
+    scene.inputFiles.push_back(light.file);
+  }
+  // Textures are inputs too: no output may replace one, and the scene hash covers them.
+  for (const TextureFile& t : scene.world.textures) scene.inputFiles.push_back(t.path);
   return scene;
 }
 

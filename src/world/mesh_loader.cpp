@@ -14,6 +14,7 @@
 
 #include "src/core/error.h"
 #include "src/world/ply_validate.h"
+#include "src/world/surface_textures.h"
 
 namespace lvox {
 namespace {
@@ -23,28 +24,61 @@ void requireReadable(const std::string& path, const std::string& field) {
   if (!in) throw InputError(path, field, std::string("cannot open: ") + std::strerror(errno));
 }
 
-uint32_t materialIndex(World& world, const std::string& name, const RGB& albedo,
-                       const RGB& emission) {
+uint32_t materialIndex(World& world, const Material& material) {
   for (size_t i = 0; i < world.materials.size(); ++i)
-    if (world.materials[i].name == name) return static_cast<uint32_t>(i);
-  world.materials.push_back(Material{name, albedo, emission});
+    if (world.materials[i].name == material.name) return static_cast<uint32_t>(i);
+  world.materials.push_back(material);
   return static_cast<uint32_t>(world.materials.size() - 1);
+}
+
+// A texture an MTL file names (relative to the MTL file's folder; '\\' separators as some
+// exporters write them), checked readable now: a render never starts with a missing map.
+int mtlTexture(World& world, std::string name, const std::string& mtlFile,
+               const std::string& material, const std::string& map) {
+  std::replace(name.begin(), name.end(), '\\', '/');
+  const std::filesystem::path path =
+      (std::filesystem::path(mtlFile).parent_path() / name).lexically_normal();
+  const TextureFile file{path.string(), mtlFile, "material '" + material + "': " + map};
+  requireReadableTexture(file);
+  return world.textureIndex(file);
 }
 
 float clampAlbedo(float v) { return std::clamp(v, 0.0f, 1.0f); }
 
 }  // namespace
 
-bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c,
-                 uint32_t material) {
+bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c, uint32_t material,
+                 const TriangleAttributes& attributes) {
   for (const Vec3& p : {a, b, c})
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
   const Vec3 n = cross(b - a, c - a);
   if (!(length(n) > 0.0f)) return false;
   const auto base = static_cast<uint32_t>(mesh.positions.size());
+  // The attribute arrays exist from the first triangle that has the attribute on.
+  if (attributes.uv && mesh.uvs.empty()) mesh.uvs.assign(base, Vec2(0.0f, 0.0f));
+  if (attributes.normal && mesh.normals.empty()) {
+    mesh.normals.resize(base);
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+      const Vec3 g = normalize(
+          cross(mesh.vertex(t, 1) - mesh.vertex(t, 0), mesh.vertex(t, 2) - mesh.vertex(t, 0)));
+      for (int k = 0; k < 3; ++k) mesh.normals[mesh.indices[3 * t + k]] = g;
+    }
+  }
   mesh.positions.insert(mesh.positions.end(), {a, b, c});
   mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2});
   mesh.triangleMaterial.push_back(material);
+  if (attributes.uv || !mesh.uvs.empty())
+    for (int k = 0; k < 3; ++k) mesh.uvs.push_back(attributes.uv ? attributes.uv[k] : Vec2(0.0f));
+  if (attributes.normal || !mesh.normals.empty()) {
+    const Vec3 g = normalize(n);
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 s = attributes.normal ? attributes.normal[k] : g;
+      // A zero or non-finite normal in a file shades flat.
+      const bool usable =
+          std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.z) && length(s) > 0.0f;
+      mesh.normals.push_back(usable ? normalize(s) : g);
+    }
+  }
   return true;
 }
 
@@ -67,6 +101,8 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
   // Scene material for each MTL material (or the override for all).
   std::vector<uint32_t> mtlToScene;
   const std::string stem = std::filesystem::path(path).stem().string();
+  const std::vector<std::string> libraries = objMaterialLibraries(path);
+  const std::string mtlFile = libraries.empty() ? path : libraries.front();
   if (!materialOverride) {
     for (const tinyobj::material_t& m : reader.GetMaterials()) {
       const RGB kd(clampAlbedo(m.diffuse[0]), clampAlbedo(m.diffuse[1]), clampAlbedo(m.diffuse[2]));
@@ -75,12 +111,25 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
       // The bound of a scene file's "emission": beyond it a pixel is no longer a radiance.
       if (!isFinite(ke) || maxComponent(ke) > 1e9f)
         throw InputError(path, field, "material '" + m.name + "': Ke outside [0, 1e9]");
-      mtlToScene.push_back(materialIndex(world, stem + "/" + m.name, kd, ke));
+      Material material{stem + "/" + m.name, kd, ke};
+      // map_Kd replaces Kd (as Blender, Cycles and pbrt read it); map_d cuts holes.
+      if (!m.diffuse_texname.empty()) {
+        material.albedoMap = mtlTexture(world, m.diffuse_texname, mtlFile, m.name, "map_Kd");
+        material.albedo = RGB(1.0f);
+      }
+      if (!m.alpha_texname.empty())
+        material.opacityMap = mtlTexture(world, m.alpha_texname, mtlFile, m.name, "map_d");
+      mtlToScene.push_back(materialIndex(world, material));
     }
   }
   const uint32_t defaultMaterial =
       materialOverride ? *materialOverride
-                       : materialIndex(world, stem + "/(default)", RGB(0.8f), RGB(0.0f));
+                       : materialIndex(world, Material{stem + "/(default)", RGB(0.8f), RGB(0.0f)});
+  const size_t uvCount = attrib.texcoords.size() / 2, normalCount = attrib.normals.size() / 3;
+  std::vector<Vec3> normals(normalCount);
+  for (size_t i = 0; i < normalCount; ++i)
+    normals[i] = xf.normal(
+        Vec3(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]));
 
   MeshLoadStats stats;
   std::vector<Vec3> transformed(vertexCount);
@@ -90,7 +139,9 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& idx = shape.mesh.indices;
     for (size_t f = 0; f + 2 < idx.size(); f += 3) {
-      Vec3 p[3];
+      Vec3 p[3], n[3];
+      Vec2 uv[3];
+      bool hasUv = true, hasNormal = true;
       for (int k = 0; k < 3; ++k) {
         const int vi = idx[f + k].vertex_index;
         if (vi < 0 || static_cast<size_t>(vi) >= vertexCount)
@@ -99,12 +150,23 @@ MeshLoadStats loadObj(const std::string& path, const std::string& field, const T
                                std::to_string(vi + 1) + " but the file has " +
                                std::to_string(vertexCount));
         p[k] = transformed[static_cast<size_t>(vi)];
+        const int ti = idx[f + k].texcoord_index, ni = idx[f + k].normal_index;
+        if (ti >= 0 && static_cast<size_t>(ti) < uvCount)
+          uv[k] = Vec2(attrib.texcoords[2 * static_cast<size_t>(ti)],
+                       attrib.texcoords[2 * static_cast<size_t>(ti) + 1]);
+        else
+          hasUv = false;
+        if (ni >= 0 && static_cast<size_t>(ni) < normalCount)
+          n[k] = normals[static_cast<size_t>(ni)];
+        else
+          hasNormal = false;
       }
       const int mid = shape.mesh.material_ids[f / 3];
       uint32_t material = defaultMaterial;
       if (!materialOverride && mid >= 0 && static_cast<size_t>(mid) < mtlToScene.size())
         material = mtlToScene[static_cast<size_t>(mid)];
-      if (addTriangle(world.mesh, p[0], p[1], p[2], material))
+      const TriangleAttributes attributes{hasUv ? uv : nullptr, hasNormal ? n : nullptr};
+      if (addTriangle(world.mesh, p[0], p[1], p[2], material, attributes))
         ++stats.triangles;
       else
         ++stats.skippedDegenerate;
@@ -147,7 +209,8 @@ MeshLoadStats loadPly(const std::string& path, const std::string& field, const T
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
-      Vec3 p[3];
+      Vec3 p[3], n[3];
+      Vec2 uv[3];
       for (int k = 0; k < 3; ++k) {
         const unsigned vi = face.mIndices[k];
         if (vi >= mesh->mNumVertices)
@@ -155,8 +218,14 @@ MeshLoadStats loadPly(const std::string& path, const std::string& field, const T
                            "face " + std::to_string(f) + " refers to a missing vertex");
         const aiVector3D& v = mesh->mVertices[vi];
         p[k] = xf.point(Vec3(v.x, v.y, v.z));
+        if (mesh->HasNormals())
+          n[k] = xf.normal(Vec3(mesh->mNormals[vi].x, mesh->mNormals[vi].y, mesh->mNormals[vi].z));
+        if (mesh->HasTextureCoords(0))
+          uv[k] = Vec2(mesh->mTextureCoords[0][vi].x, mesh->mTextureCoords[0][vi].y);
       }
-      if (addTriangle(world.mesh, p[0], p[1], p[2], material))
+      const TriangleAttributes attributes{mesh->HasTextureCoords(0) ? uv : nullptr,
+                                          mesh->HasNormals() ? n : nullptr};
+      if (addTriangle(world.mesh, p[0], p[1], p[2], material, attributes))
         ++stats.triangles;
       else
         ++stats.skippedDegenerate;

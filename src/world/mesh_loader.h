@@ -28,7 +28,7 @@ MeshLoadStats loadPly(const std::string& path, const std::string& field, const T
                       uint32_t material, World& world);
 
 // Adds one triangle unless it is degenerate or non-finite; returns whether it was added.
-bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c,
-                 uint32_t material);
+bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c, uint32_t material,
+                 const TriangleAttributes& attributes = {});
 
 }  // namespace lvox

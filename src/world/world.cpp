@@ -26,6 +26,23 @@ float Light::spotFactor(const Vec3& dirFromLight) const {
   return x * x * (3.0f - 2.0f * x);
 }
 
+Vec2 TriangleMesh::barycentricOf(size_t tri, const Vec3& p) const {
+  const Vec3 a = vertex(tri, 0);
+  const Vec3 e1 = vertex(tri, 1) - a, e2 = vertex(tri, 2) - a, d = p - a;
+  const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+  const float d1 = dot(d, e1), d2 = dot(d, e2);
+  const float det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0f)) return Vec2(0.0f, 0.0f);
+  return Vec2((d22 * d1 - d12 * d2) / det, (d11 * d2 - d12 * d1) / det);
+}
+
+int World::textureIndex(const TextureFile& file) {
+  for (size_t i = 0; i < textures.size(); ++i)
+    if (textures[i].path == file.path) return static_cast<int>(i);
+  textures.push_back(file);
+  return static_cast<int>(textures.size() - 1);
+}
+
 Bounds3 World::bounds() const {
   Bounds3 b;
   for (const Vec3& p : mesh.positions) b.extend(p);

@@ -3,14 +3,17 @@
 #include <optional>
 
 #include "src/core/names.h"
+#include "src/world/gltf_loader.h"
 #include "src/world/mesh_loader.h"
+#include "src/world/surface_textures.h"
 
 namespace lvox {
 namespace {
 
-enum class ShapeType { Obj, Ply, Quad, Box };
+enum class ShapeType { Obj, Ply, Gltf, Quad, Box };
 constexpr Named<ShapeType> kShapeTypes[] = {{ShapeType::Obj, "obj"},
                                             {ShapeType::Ply, "ply"},
+                                            {ShapeType::Gltf, "gltf"},
                                             {ShapeType::Quad, "quad"},
                                             {ShapeType::Box, "box"}};
 ShapeType parseShapeType(std::string_view name, const std::string& file, const std::string& field) {
@@ -87,6 +90,14 @@ void parseMaterials(JsonObject m, World& world) {
     material.name = name;
     material.albedo = mat.rgb("albedo", 0.0f, 1.0f, RGB(0.8f));
     material.emission = mat.rgb("emission", 0.0f, 1e9f, RGB(0.0f));
+    if (mat.has("albedo_texture")) {
+      // The texture times "albedo" (1 unless given), on the shape's texture coordinates.
+      const TextureFile file{mat.filePath("albedo_texture"), mat.file(),
+                             mat.fieldPath("albedo_texture")};
+      requireReadableTexture(file);
+      material.albedoMap = world.textureIndex(file);
+      material.albedo = mat.rgb("albedo", 0.0f, 1.0f, RGB(1.0f));
+    }
     mat.finish();
     world.materials.push_back(material);
   }
@@ -104,7 +115,8 @@ std::vector<Vec3> quadCorners(JsonObject& s, const Transform& xf) {
   return c;
 }
 
-void parseShape(JsonObject s, World& world, std::vector<std::string>& inputFiles) {
+void parseShape(JsonObject s, World& world, std::vector<std::string>& inputFiles,
+                std::optional<Camera>& fileCamera) {
   const ShapeType type = s.choice("type", std::nullopt, parseShapeType);
   const Transform xf = parseTransform(s, "transform");
   switch (type) {
@@ -122,6 +134,12 @@ void parseShape(JsonObject s, World& world, std::vector<std::string>& inputFiles
       const uint32_t material = findMaterial(s, world);
       inputFiles.push_back(file);
       loadPly(file, s.fieldPath("file"), xf, material, world);
+      break;
+    }
+    case ShapeType::Gltf: {
+      const std::string file = s.filePath("file");
+      inputFiles.push_back(file);
+      loadGltf(file, s.fieldPath("file"), xf, world, fileCamera);
       break;
     }
     case ShapeType::Quad: {
@@ -163,7 +181,12 @@ Light parseLight(JsonObject l) {
           l.number("falloff_deg", 0.0f, light.coneDeg, std::min(5.0f, light.coneDeg));
       break;
     case LightType::Environment:
-      light.intensity = l.rgb("radiance", 0.0f, 1e9f);
+      if (l.has("file")) {
+        light.file = l.filePath("file");  // read by the scene loader, with the meshes
+        light.intensity = l.rgb("radiance", 0.0f, 1e9f, RGB(1.0f));
+      } else {
+        light.intensity = l.rgb("radiance", 0.0f, 1e9f);
+      }
       break;
   }
   l.finish();

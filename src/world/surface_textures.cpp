@@ -1,0 +1,135 @@
+#include "src/world/surface_textures.h"
+
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/texture.h>
+
+#include "src/core/check.h"
+#include "src/core/error.h"
+
+namespace lvox {
+namespace {
+
+OIIO::TextureSystem* system(void* p) { return static_cast<OIIO::TextureSystem*>(p); }
+
+std::string firstLine(std::string s) {
+  const size_t end = s.find('\n');
+  if (end != std::string::npos) s.resize(end);
+  return s.substr(0, 300);
+}
+
+float srgbToLinear(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+}  // namespace
+
+struct SurfaceTextures::Texture {
+  OIIO::TextureSystem::TextureHandle* handle = nullptr;
+  int colorChannels = 3;  // 1 (grey) or 3
+  int alphaChannel = 0;   // the channel a cut-out mask reads: alpha if there is one
+  bool srgb = true;       // integer images are sRGB-encoded
+};
+
+void requireReadableTexture(const TextureFile& texture) {
+  auto in = OIIO::ImageInput::open(texture.path);
+  if (!in)
+    throw InputError(texture.namedBy, texture.field,
+                     "cannot read texture '" + texture.path + "': " + firstLine(OIIO::geterror()));
+}
+
+SurfaceTextures::SurfaceTextures(const World& world, TextureFilter filter)
+    : world_(world), filter_(filter) {
+  for (const Material& m : world.materials) anyCutouts_ = anyCutouts_ || m.opacityMap >= 0;
+  if (world.textures.empty()) return;
+  OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
+  system_ = ts;
+  ts->attribute("automip", 1);  // JPEG and PNG textures have no mip levels of their own
+  OIIO::TextureSystem::Perthread* thread = ts->get_perthread_info();
+  for (const TextureFile& file : world.textures) {
+    auto t = std::make_unique<Texture>();
+    t->handle = ts->get_texture_handle(OIIO::ustring(file.path), thread);
+    OIIO::ImageSpec spec;
+    if (!t->handle || !ts->get_imagespec(t->handle, thread, 0, spec))
+      throw InputError(file.namedBy, file.field,
+                       "cannot read texture '" + file.path + "': " + firstLine(ts->geterror()));
+    t->colorChannels = spec.nchannels >= 3 ? 3 : 1;
+    t->alphaChannel = spec.alpha_channel >= 0 ? spec.alpha_channel : 0;
+    t->srgb = !spec.format.is_floating_point();
+    handles_.push_back(std::move(t));
+  }
+}
+
+SurfaceTextures::~SurfaceTextures() {
+  if (system_) OIIO::TextureSystem::destroy(system(system_));
+}
+
+Vec2 SurfaceTextures::uvDelta(uint32_t tri, const Vec3& d) const {
+  const TriangleMesh& mesh = world_.mesh;
+  if (mesh.uvs.empty() || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return Vec2(0.0f);
+  // d = e1 a + e2 b in the plane (least squares), and the uv edges map (a, b) to uv.
+  const Vec3 p0 = mesh.vertex(tri, 0);
+  const Vec3 e1 = mesh.vertex(tri, 1) - p0, e2 = mesh.vertex(tri, 2) - p0;
+  const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+  const float det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0f)) return Vec2(0.0f);
+  const float r1 = dot(d, e1), r2 = dot(d, e2);
+  const float a = (d22 * r1 - d12 * r2) / det, b = (d11 * r2 - d12 * r1) / det;
+  const Vec2 uv0 = mesh.uvs[mesh.indices[3 * tri]];
+  const Vec2 du = (mesh.uvs[mesh.indices[3 * tri + 1]] - uv0) * a +
+                  (mesh.uvs[mesh.indices[3 * tri + 2]] - uv0) * b;
+  return Vec2(du.x, -du.y);  // texture t runs down the image, v up
+}
+
+RGB SurfaceTextures::albedo(uint32_t tri, float b1, float b2, const Vec3& dpdx,
+                            const Vec3& dpdy) const {
+  const Material& m = world_.materials[world_.mesh.triangleMaterial[tri]];
+  LVOX_DCHECK(m.albedoMap >= 0, "albedo lookup on a material without a map");
+  const Texture& tex = *handles_[static_cast<size_t>(m.albedoMap)];
+  const Vec2 uv = world_.mesh.uvs.empty() ? Vec2(0.0f) : world_.mesh.uvAt(tri, b1, b2);
+  const Vec2 dx = uvDelta(tri, dpdx), dy = uvDelta(tri, dpdy);
+  OIIO::TextureOpt opt;
+  opt.swrap = opt.twrap = OIIO::TextureOpt::WrapPeriodic;
+  if (filter_ == TextureFilter::kNearest) {
+    opt.interpmode = OIIO::TextureOpt::InterpClosest;
+    opt.mipmode = OIIO::TextureOpt::MipModeNoMIP;
+  } else {
+    opt.interpmode = OIIO::TextureOpt::InterpBilinear;
+  }
+  float out[3] = {0.0f, 0.0f, 0.0f};
+  OIIO::TextureSystem* ts = system(system_);
+  ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, dx.x, dx.y, dy.x, dy.y,
+              tex.colorChannels, out);
+  if (tex.colorChannels == 1) out[1] = out[2] = out[0];
+  RGB c;
+  for (int k = 0; k < 3; ++k)
+    c[k] = tex.srgb ? srgbToLinear(out[k]) : std::clamp(out[k], 0.0f, 1.0f);
+  return c * m.albedo;
+}
+
+RGB SurfaceTextures::albedoOverDisk(uint32_t tri, float b1, float b2, float radius) const {
+  const Vec3 p0 = world_.mesh.vertex(tri, 0);
+  const Vec3 e1 = world_.mesh.vertex(tri, 1) - p0, e2 = world_.mesh.vertex(tri, 2) - p0;
+  const Vec3 s = normalize(e1), t = normalize(cross(cross(e1, e2), e1));
+  return albedo(tri, b1, b2, s * (2.0f * radius), t * (2.0f * radius));
+}
+
+bool SurfaceTextures::isCutAway(uint32_t tri, float b1, float b2) const {
+  const int map = opacityMapOf(tri);
+  if (map < 0) return false;
+  const Texture& tex = *handles_[static_cast<size_t>(map)];
+  const Vec2 uv = world_.mesh.uvs.empty() ? Vec2(0.0f) : world_.mesh.uvAt(tri, b1, b2);
+  OIIO::TextureOpt opt;
+  opt.swrap = opt.twrap = OIIO::TextureOpt::WrapPeriodic;
+  opt.firstchannel = tex.alphaChannel;
+  opt.mipmode = OIIO::TextureOpt::MipModeNoMIP;
+  opt.interpmode = filter_ == TextureFilter::kNearest ? OIIO::TextureOpt::InterpClosest
+                                                      : OIIO::TextureOpt::InterpBilinear;
+  float opacity = 1.0f;
+  OIIO::TextureSystem* ts = system(system_);
+  ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, 0.0f, 0.0f, 0.0f, 0.0f,
+              1, &opacity);
+  return opacity < 0.5f;
+}
+
+}  // namespace lvox

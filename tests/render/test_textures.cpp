@@ -1,0 +1,190 @@
+// Textures (MTL map_Kd, map_d), texture coordinates and smooth normals in every mode,
+// against closed forms: a Lambertian point of albedo rho under a directional light of
+// irradiance E at incidence theta has radiance rho E cos(theta) / pi.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "src/core/error.h"
+#include "src/render/renderer.h"
+#include "src/scene/scene_loader.h"
+#include "textured_scenes.h"
+
+namespace lvox {
+namespace {
+
+using namespace lvox::test;
+
+Image render(const Scene& scene, Mode mode) {
+  Scene s = scene;
+  s.render.mode = mode;
+  Report report;
+  return renderScene(s.job(), report);
+}
+
+Scene loadText(const fs::path& dir, const std::string& text) {
+  writeFile(dir / "scene.json", text);
+  return loadScene((dir / "scene.json").string());
+}
+
+// 8 x 8 PNG of 4 x 4 blocks of 2 x 2 equal texels: bilinear lookups inside a block's
+// central half return the block's texel exactly.
+std::vector<uint8_t> blockTexture(uint8_t (*colour)(int bx, int by, int c)) {
+  std::vector<uint8_t> rgb(8 * 8 * 3);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) rgb[3 * (8 * y + x) + c] = colour(x / 2, y / 2, c);
+  return rgb;
+}
+
+uint8_t blockColour(int bx, int by, int c) {
+  return static_cast<uint8_t>(20 + 50 * bx + 9 * by + 30 * c);
+}
+
+constexpr float kIrradiance = 3.0f;
+const float kCos = 0.8f;  // the light travels along (0.6, 0, -0.8)
+
+TEST(Textures, TexelAlbedoTimesIrradianceInEveryMode) {
+  const fs::path dir = tempDir();
+  writeTexturePng(dir / "blocks.png", 8, 8, blockTexture(blockColour));
+  writeFile(dir / "quad.mtl", "newmtl tex\nKd 0.3 0.3 0.3\nmap_Kd blocks.png\n");
+  writeQuadObj(dir / "quad.obj", "quad.mtl", "tex", -1, -1, 1, 1, 0);
+  const Scene scene = loadText(dir, objScene(32, {"quad.obj"}, kIrradiance, "[0.6, 0, -0.8]"));
+  for (Mode mode : {Mode::kDirect, Mode::kMc, Mode::kPcb, Mode::kPcbSurfels}) {
+    const Image image = render(scene, mode);
+    // Pixels 3 and 4 of each 8-pixel block lie in its texels' central half.
+    for (int by = 0; by < 4; ++by)
+      for (int bx = 0; bx < 4; ++bx)
+        for (int px : {8 * bx + 3, 8 * bx + 4})
+          for (int py : {8 * by + 3, 8 * by + 4})
+            for (int c = 0; c < 3; ++c) {
+              const float expected =
+                  srgbByteToLinear(blockColour(bx, by, c)) * kIrradiance * kCos / kPi;
+              // Only direct light (one quad, no environment): exact up to float rounding.
+              EXPECT_NEAR(image.at(px, py)[c], expected, 1e-4f * expected + 1e-6f)
+                  << modeName(mode) << " pixel " << px << "," << py << " channel " << c;
+            }
+  }
+}
+
+// A 256 x 256 checker of single texels (linear 0.9 and 0.1, float EXR) under a pixel that
+// covers 8 x 8 texels: the mip-mapped lookup averages it to 0.5, where a point lookup
+// would alias between 0.1 and 0.9.
+TEST(Textures, FilteredLookupAveragesTheFootprint) {
+  const fs::path dir = tempDir();
+  Image checker(256, 256);
+  for (int y = 0; y < 256; ++y)
+    for (int x = 0; x < 256; ++x) checker.at(x, y) = RGB((x + y) % 2 ? 0.9f : 0.1f);
+  writeExr((dir / "checker.exr").string(), checker);
+  writeFile(dir / "quad.mtl", "newmtl tex\nmap_Kd checker.exr\n");
+  writeQuadObj(dir / "quad.obj", "quad.mtl", "tex", -1, -1, 1, 1, 0);
+  const Scene scene = loadText(dir, objScene(32, {"quad.obj"}, kIrradiance, "[0.6, 0, -0.8]"));
+  const float expected = 0.5f * kIrradiance * kCos / kPi;
+  for (Mode mode : {Mode::kDirect, Mode::kMc, Mode::kPcb}) {
+    const Image image = render(scene, mode);
+    double worst = 0.0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        worst = std::max(worst, std::abs(double(image.at(x, y)[1]) / expected - 1.0));
+    // Box-filtered mip levels of an even checker are exactly 0.5; 1 % covers the
+    // trilinear blend and the pixel jitter.
+    EXPECT_LT(worst, 0.01) << modeName(mode);
+  }
+}
+
+// An occluder quad at height 1 over [-0.9, -0.1] x [-0.4, 0.4] whose map_d cuts away its
+// lower half (v < 1/2, y < 0); light along (1, 0, -1)/sqrt(2) throws its shadow one unit
+// to +x, onto [0.1, 0.9] x [0, 0.4] of a white receiver at z = 0, outside the occluder's
+// image. The shadow's area, summed from the pixels' darkness, is 0.8 x 0.4.
+double shadowArea(const fs::path& dir, Mode mode, bool cutout) {
+  Image mask(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) mask.at(x, y) = RGB(y < 4 ? 1.0f : 0.0f);  // top rows opaque
+  writeExr((dir / "mask.exr").string(), mask);
+  writeFile(dir / "scene.mtl",
+            std::string("newmtl white\nKd 1 1 1\nnewmtl leaf\nKd 0.5 0.5 0.5\n") +
+                (cutout ? "map_d mask.exr\n" : ""));
+  writeQuadObj(dir / "receiver.obj", "scene.mtl", "white", -1, -1, 1, 1, 0);
+  writeQuadObj(dir / "leaf.obj", "scene.mtl", "leaf", -0.9f, -0.4f, -0.1f, 0.4f, 1);
+  const int n = 64;
+  const Scene scene = loadText(dir, objScene(n, {"receiver.obj", "leaf.obj"}, kIrradiance,
+                                             "[0.70710678, 0, -0.70710678]", 16));
+  const Image image = render(scene, mode);
+  const float lit = kIrradiance * 0.70710678f / kPi;
+  const double pixelArea = (2.0 / n) * (2.0 / n);
+  double area = 0.0;
+  for (int y = 0; y < n; ++y)
+    for (int x = n / 2; x < n; ++x)  // x > 0: the receiver only
+      area += (1.0 - std::clamp(double(image.at(x, y)[0]) / lit, 0.0, 1.0)) * pixelArea;
+  return area;
+}
+
+TEST(Textures, CutoutCastsTheShadowOfItsOpaquePart) {
+  const fs::path dir = tempDir();
+  for (Mode mode : {Mode::kDirect, Mode::kMc, Mode::kPcb}) {
+    // pcb and mc add light the receiver gets back from the leaf's underside: none here
+    // (the leaf faces the receiver's lit side only from above its shadow); the pixel
+    // jitter of 16 samples leaves about 1 % on the shadow's edges.
+    EXPECT_NEAR(shadowArea(dir, mode, true), 0.8 * 0.4, 0.02 * 0.32) << modeName(mode);
+    EXPECT_NEAR(shadowArea(dir, mode, false), 0.8 * 0.8, 0.02 * 0.64) << modeName(mode);
+  }
+}
+
+// Shading normals tilted 36.87 degrees (n_s = (0.6, 0, 0.8)) on a flat quad, light straight
+// down: cos(theta) becomes 0.8 and nothing else changes: the same pixels are covered.
+TEST(Textures, SmoothNormalsChangeShadingNotGeometry) {
+  const fs::path dir = tempDir();
+  writeFile(dir / "quad.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+  // A quad smaller than the image, so coverage has an edge to compare.
+  writeQuadObj(dir / "flat.obj", "quad.mtl", "grey", -0.55f, -0.3f, 0.45f, 0.6f, 0);
+  writeQuadObj(dir / "smooth.obj", "quad.mtl", "grey", -0.55f, -0.3f, 0.45f, 0.6f, 0, "0.6 0 0.8");
+  const Scene flat = loadText(dir, objScene(32, {"flat.obj"}, kIrradiance));
+  const Scene smooth = loadText(dir, objScene(32, {"smooth.obj"}, kIrradiance));
+  for (Mode mode : {Mode::kDirect, Mode::kMc, Mode::kPcb}) {
+    const Image a = render(flat, mode), b = render(smooth, mode);
+    int covered = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const float fa = a.at(x, y)[0], fb = b.at(x, y)[0];
+        EXPECT_EQ(fa > 0.0f, fb > 0.0f) << "coverage differs at " << x << "," << y;
+        if (fa > 0.0f) {
+          ++covered;
+          // Shading scales by cos(theta_s) / cos(theta_g) = 0.8 everywhere, edges included.
+          EXPECT_NEAR(fb, 0.8f * fa, 1e-4f * fa) << modeName(mode) << " " << x << "," << y;
+        }
+      }
+    EXPECT_GT(covered, 32 * 32 / 5);
+    EXPECT_NEAR(a.at(10, 10)[0], 0.5f * kIrradiance / kPi, 1e-5f);
+  }
+}
+
+TEST(Textures, MissingTextureIsOneLineNamingTheMtlAndTheMap) {
+  const fs::path dir = tempDir();
+  writeFile(dir / "quad.mtl", "newmtl tex\nmap_Kd no_such_texture.png\n");
+  writeQuadObj(dir / "quad.obj", "quad.mtl", "tex", -1, -1, 1, 1, 0);
+  writeFile(dir / "scene.json", objScene(8, {"quad.obj"}, 1.0f));
+  try {
+    loadScene((dir / "scene.json").string());
+    FAIL() << "a missing texture was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find((dir / "quad.mtl").string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("map_Kd"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("no_such_texture.png"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+TEST(Textures, TexturesAreInputsOfTheScene) {
+  const fs::path dir = tempDir();
+  writeTexturePng(dir / "blocks.png", 8, 8, blockTexture(blockColour));
+  writeFile(dir / "quad.mtl", "newmtl tex\nmap_Kd blocks.png\n");
+  writeQuadObj(dir / "quad.obj", "quad.mtl", "tex", -1, -1, 1, 1, 0);
+  const Scene scene = loadText(dir, objScene(8, {"quad.obj"}, 1.0f));
+  const std::string texture = (dir / "blocks.png").lexically_normal().string();
+  EXPECT_NE(std::find(scene.inputFiles.begin(), scene.inputFiles.end(), texture),
+            scene.inputFiles.end());
+}
+
+}  // namespace
+}  // namespace lvox
