@@ -9,7 +9,7 @@
 namespace lvox {
 namespace {
 
-OIIO::TextureSystem* system(void* p) { return static_cast<OIIO::TextureSystem*>(p); }
+OIIO::TextureSystem* textureSystem(void* p) { return static_cast<OIIO::TextureSystem*>(p); }
 
 std::string firstLine(std::string s) {
   const size_t end = s.find('\n');
@@ -42,11 +42,16 @@ SurfaceTextures::SurfaceTextures(const World& world, TextureFilter filter)
     : world_(world), filter_(filter) {
   for (const Material& m : world.materials) anyCutouts_ = anyCutouts_ || m.opacityMap >= 0;
   if (world.textures.empty()) return;
-  OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
+  // OpenImageIO's process-wide TextureSystem, never destroyed: Debian's OIIO 2.4
+  // TextureSystem::destroy deletes through the wrong type (AddressSanitizer's
+  // new-delete-type-mismatch), so a private system per render cannot be released cleanly.
+  // Each render re-reads its files (invalidate), so it sees them as they are now.
+  OIIO::TextureSystem* ts = OIIO::TextureSystem::create(true);
   system_ = ts;
   ts->attribute("automip", 1);  // JPEG and PNG textures have no mip levels of their own
   OIIO::TextureSystem::Perthread* thread = ts->get_perthread_info();
   for (const TextureFile& file : world.textures) {
+    ts->invalidate(OIIO::ustring(file.path));
     auto t = std::make_unique<Texture>();
     t->handle = ts->get_texture_handle(OIIO::ustring(file.path), thread);
     OIIO::ImageSpec spec;
@@ -60,9 +65,7 @@ SurfaceTextures::SurfaceTextures(const World& world, TextureFilter filter)
   }
 }
 
-SurfaceTextures::~SurfaceTextures() {
-  if (system_) OIIO::TextureSystem::destroy(system(system_));
-}
+SurfaceTextures::~SurfaceTextures() = default;
 
 Vec2 SurfaceTextures::uvDelta(uint32_t tri, const Vec3& d) const {
   const TriangleMesh& mesh = world_.mesh;
@@ -97,7 +100,7 @@ RGB SurfaceTextures::albedo(uint32_t tri, float b1, float b2, const Vec3& dpdx,
     opt.interpmode = OIIO::TextureOpt::InterpBilinear;
   }
   float out[3] = {0.0f, 0.0f, 0.0f};
-  OIIO::TextureSystem* ts = system(system_);
+  OIIO::TextureSystem* ts = textureSystem(system_);
   ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, dx.x, dx.y, dy.x, dy.y,
               tex.colorChannels, out);
   if (tex.colorChannels == 1) out[1] = out[2] = out[0];
@@ -126,7 +129,7 @@ bool SurfaceTextures::isCutAway(uint32_t tri, float b1, float b2) const {
   opt.interpmode = filter_ == TextureFilter::kNearest ? OIIO::TextureOpt::InterpClosest
                                                       : OIIO::TextureOpt::InterpBilinear;
   float opacity = 1.0f;
-  OIIO::TextureSystem* ts = system(system_);
+  OIIO::TextureSystem* ts = textureSystem(system_);
   ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, 0.0f, 0.0f, 0.0f, 0.0f,
               1, &opacity);
   return opacity < 0.5f;

@@ -1,8 +1,8 @@
 #pragma once
-// The images materials read (albedo maps, cut-out masks), through one OpenImageIO
-// TextureSystem per render: filtered, mip-mapped lookups (mip levels are made on the fly
-// for images that have none), thread-safe, each thread with its own OIIO handle. This
-// header hides OpenImageIO: only surface_textures.cpp includes it.
+// The images materials read (albedo maps, cut-out masks), through OpenImageIO's shared
+// TextureSystem: filtered, mip-mapped lookups (mip levels are made on the fly for images
+// that have none), thread-safe, each thread with its own OIIO handle. This header hides
+// OpenImageIO: only surface_textures.cpp includes it.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -22,7 +22,8 @@ enum class TextureFilter {
 
 class SurfaceTextures {
  public:
-  // Opens every texture of `world` (a world with none never starts OpenImageIO).
+  // Opens every texture of `world` (a world with none never starts OpenImageIO), re-read
+  // from disk.
   explicit SurfaceTextures(const World& world, TextureFilter filter = TextureFilter::kFiltered);
   ~SurfaceTextures();
   SurfaceTextures(const SurfaceTextures&) = delete;

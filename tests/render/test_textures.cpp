@@ -158,6 +158,30 @@ TEST(Textures, SmoothNormalsChangeShadingNotGeometry) {
   }
 }
 
+// The same texel check for a PLY with u, v coordinates and a scene material's
+// "albedo_texture" (times its "albedo" 0.5).
+TEST(Textures, PlyCoordinatesWithASceneMaterialTexture) {
+  const fs::path dir = tempDir();
+  writeTexturePng(dir / "blocks.png", 8, 8, blockTexture(blockColour));
+  writeFile(dir / "quad.ply",
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float u\nproperty float v\nelement face 1\n"
+            "property list uchar int vertex_indices\nend_header\n"
+            "-1 -1 0 0 0\n1 -1 0 1 0\n1 1 0 1 1\n-1 1 0 0 1\n4 0 1 2 3\n");
+  std::string text = objScene(32, {}, kIrradiance, "[0.6, 0, -0.8]");
+  text.replace(text.find(R"("shapes": [])"), 12,
+               R"("materials": {"tex": {"albedo_texture": "blocks.png", "albedo": 0.5}},
+                  "shapes": [{"type": "ply", "file": "quad.ply", "material": "tex"}])");
+  const Scene scene = loadText(dir, text);
+  const Image image = render(scene, Mode::kDirect);
+  for (int b : {0, 3})
+    for (int c = 0; c < 3; ++c) {
+      const float expected =
+          0.5f * srgbByteToLinear(blockColour(b, 3 - b, c)) * kIrradiance * kCos / kPi;
+      EXPECT_NEAR(image.at(8 * b + 4, 8 * (3 - b) + 4)[c], expected, 1e-4f * expected);
+    }
+}
+
 TEST(Textures, MissingTextureIsOneLineNamingTheMtlAndTheMap) {
   const fs::path dir = tempDir();
   writeFile(dir / "quad.mtl", "newmtl tex\nmap_Kd no_such_texture.png\n");
