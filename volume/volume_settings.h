@@ -8,7 +8,7 @@
 
 #include "src/core/json_fields.h"
 #include "src/core/setting_list.h"
-#include "volume/media/dense_grid.h"
+#include "volume/media/interpolation.h"
 #include "volume/rte/method.h"
 
 namespace lvox {

@@ -23,8 +23,8 @@ constexpr float kReferenceTolerance = 1e-3f;
 // Steps across a spot beam's width at the ray.
 constexpr float kStepsPerBeam = 4.0f;
 
-float smallestVoxel(const DenseGrid& g) {
-  const Transform& m = g.indexToWorld;
+float smallestVoxel(const SparseGrid& g) {
+  const Transform& m = g.indexToWorld();
   float s = kInf;
   for (const Vec3& axis : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)})
     s = std::min(s, length(m.vector(axis)));

@@ -139,7 +139,7 @@ size_t scatteringMedium(const MediaSet& media, const Vec3& x, float totalSigmaS,
 Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd, Rng& rng,
                      RGB& throughput, RGB& radiance, PathCounters& counters) {
   Collision c;
-  thread_local std::vector<MajorantSegment> segs;
+  thread_local std::vector<MajorantSpan> segs;
   tracker.segments(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, false, segs);
   const MediaSet& media = tracker.media();
   forEachTentativeCollision(segs, rng, [&](float t, float majorant) {

@@ -10,7 +10,7 @@
 #include "src/core/image_io.h"
 #include "src/world/mesh_loader.h"
 #include "src/scene/scene_loader.h"
-#include "volume/media/dense_grid.h"
+#include "volume/media/vdb_loader.h"
 
 namespace lvox::fuzz {
 namespace {

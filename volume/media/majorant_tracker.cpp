@@ -9,17 +9,11 @@ namespace lvox {
 namespace {
 
 void mediumSegments(const Medium& m, const Ray& ray, float tmin, float tmax, bool useGrid,
-                    std::vector<MajorantSegment>& out) {
+                    std::vector<MajorantSpan>& out) {
   if (m.type == MediumType::Vdb && useGrid) {
-    const float scale = m.densityScale;
-    m.density->forEachBlock(ray, tmin, tmax, [&](float t0, float t1, size_t block) {
-      const float maj = scale * m.density->blockMax[block];
-      if (maj <= 0.0f) return;
-      if (!out.empty() && out.back().majorant == maj && out.back().t1 >= t0 - 1e-6f)
-        out.back().t1 = t1;
-      else
-        out.push_back({t0, t1, maj});
-    });
+    const size_t first = out.size();
+    m.density->majorantSpans(ray, tmin, tmax, m.majorantLevel, out);
+    for (size_t i = first; i < out.size(); ++i) out[i].majorant *= m.densityScale;
     return;
   }
   const float maj = maxComponent(m.majorant());
@@ -32,9 +26,9 @@ void mediumSegments(const Medium& m, const Ray& ray, float tmin, float tmax, boo
 }  // namespace
 
 void MajorantTracker::segments(const Ray& ray, float tmin, float tmax, bool heterogeneousOnly,
-                               std::vector<MajorantSegment>& out) const {
+                               std::vector<MajorantSpan>& out) const {
   out.clear();
-  std::vector<MajorantSegment> all;
+  std::vector<MajorantSpan> all;
   size_t contributing = 0;
   for (const Medium& m : media_.media()) {
     if (heterogeneousOnly && m.homogeneous()) continue;
@@ -48,7 +42,7 @@ void MajorantTracker::segments(const Ray& ray, float tmin, float tmax, bool hete
   }
   // Overlapping media: majorants add. Sweep over the segment ends.
   std::vector<std::pair<float, float>> events;  // (t, +-majorant)
-  for (const MajorantSegment& s : all) {
+  for (const MajorantSpan& s : all) {
     events.emplace_back(s.t0, s.majorant);
     events.emplace_back(s.t1, -s.majorant);
   }
@@ -67,7 +61,7 @@ RGB MajorantTracker::transmittance(const Ray& ray, Rng& rng, uint64_t& lookups) 
   const RGB tau = media_.homogeneousOpticalDepth(ray, ray.tmin, tmax);
   RGB tr(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
   if (!media_.anyHeterogeneous()) return tr;
-  thread_local std::vector<MajorantSegment> segs;
+  thread_local std::vector<MajorantSpan> segs;
   segments(ray, ray.tmin, tmax, true, segs);
   forEachTentativeCollision(segs, rng, [&](float t, float majorant) {
     ++lookups;

@@ -1,8 +1,9 @@
 #pragma once
 // Delta tracking (free-flight sampling) and ratio tracking (transmittance) through the
-// scene's media against piecewise-constant majorants: per 8^3 block of a VDB grid (the
-// majorant grid, built from the tree's blocks) or one global majorant per medium, so the
-// reference can be timed both ways. Homogeneous media have an exact majorant (no null
+// scene's media against piecewise-constant majorants (MajorantSpan: >= sigma_t of every
+// channel on the span): per block of a VDB grid at the level that pays for that medium
+// (8^3 or 64^3 voxels, from the tree's own nodes) or one global majorant per medium, so
+// the reference can be timed both ways. Homogeneous media have an exact majorant (no null
 // collisions) and analytic transmittance.
 #include <cmath>
 #include <vector>
@@ -13,11 +14,6 @@
 
 namespace lvox {
 
-struct MajorantSegment {
-  float t0, t1;
-  float majorant;  // >= sigma_t of every channel on [t0, t1)
-};
-
 // Tentative collisions along majorant segments, the loop shared by delta tracking (free
 // flights) and ratio tracking (transmittance): exponential steps at the segment's majorant;
 // `collision(t, majorant)` is called at each one and stops the walk by returning false.
@@ -27,9 +23,9 @@ struct MajorantSegment {
 // 1e9 five units from the camera) an exponential step would round to nothing, and a
 // point on a medium's boundary that the medium does not contain would repeat forever.
 template <class Collision>
-bool forEachTentativeCollision(const std::vector<MajorantSegment>& segments, Rng& rng,
+bool forEachTentativeCollision(const std::vector<MajorantSpan>& segments, Rng& rng,
                                Collision&& collision) {
-  for (const MajorantSegment& s : segments) {
+  for (const MajorantSpan& s : segments) {
     if (!(s.majorant > 0.0f) || !std::isfinite(s.majorant)) continue;
     float t = s.t0;
     while (true) {
@@ -49,7 +45,7 @@ class MajorantTracker {
   // Piecewise-constant majorant of all media (or of the heterogeneous ones only) along
   // [tmin, tmax]; pieces with majorant 0 are left out.
   void segments(const Ray& ray, float tmin, float tmax, bool heterogeneousOnly,
-                std::vector<MajorantSegment>& out) const;
+                std::vector<MajorantSpan>& out) const;
 
   // Transmittance along [ray.tmin, ray.tmax]: exact through homogeneous media, ratio
   // tracking through the others (unbiased). `lookups` counts medium evaluations.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "src/core/error.h"
+#include "volume/media/vdb_loader.h"
 
 namespace lvox {
 namespace {
@@ -32,7 +33,7 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
     Medium m;
     if (d.type == MediumType::Vdb) {
       GridLoadReport report;
-      auto grid = std::make_shared<DenseGrid>(
+      auto grid = std::make_shared<SparseGrid>(
           loadVdbGrid(d.file, d.grid, d.transform, d.field + ".grid", report));
       if (report.clampedNegative > 0)
         warnings.push_back(d.file + ": " + std::to_string(report.clampedNegative) +
@@ -44,7 +45,7 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
       }
       // The bound of a homogeneous medium's coefficients: beyond it (up to the float
       // overflow of 3e38 x 2) tracking and the solvers stop meaning anything.
-      const float peak = grid->maxValue;
+      const float peak = grid->maxValue();
       if (!(static_cast<double>(peak) * d.densityScale <= 1e9))
         throw InputError(d.file, d.field + ".density_scale",
                          "density up to " + std::to_string(peak) + " x density_scale " +
@@ -54,11 +55,12 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
       m.bounds = grid->worldBounds();
       m.density = grid;
       m.densityScale = d.densityScale;
+      m.majorantLevel = grid->cheapestMajorantLevel(d.densityScale, interpolation);
       m.albedo = d.albedo;
       m.emission = d.emission;
       if (!d.emissionGrid.empty()) {
         GridLoadReport emissionReport;
-        m.emissionGrid = std::make_shared<DenseGrid>(loadVdbGrid(
+        m.emissionGrid = std::make_shared<SparseGrid>(loadVdbGrid(
             d.file, d.emissionGrid, d.transform, d.field + ".emission_grid", emissionReport));
       }
     } else {

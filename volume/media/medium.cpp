@@ -28,11 +28,8 @@ float Medium::densityAt(const Vec3& p) const {
       }
       return 0.0f;
     }
-    case MediumType::Vdb: {
-      const Vec3 o(static_cast<float>(density->origin.x), static_cast<float>(density->origin.y),
-                   static_cast<float>(density->origin.z));
-      return density->sample(density->worldToIndex.point(p) - o, interpolation);
-    }
+    case MediumType::Vdb:
+      return density->sample(p, interpolation);
   }
   return 0.0f;
 }
@@ -51,12 +48,7 @@ MediumCoefficients Medium::at(const Vec3& p) const {
   }
   if (!isBlack(emission)) {
     float scale = 1.0f;
-    if (emissionGrid) {
-      const Vec3 o(static_cast<float>(emissionGrid->origin.x),
-                   static_cast<float>(emissionGrid->origin.y),
-                   static_cast<float>(emissionGrid->origin.z));
-      scale = emissionGrid->sample(emissionGrid->worldToIndex.point(p) - o, interpolation);
-    }
+    if (emissionGrid) scale = emissionGrid->sample(p, interpolation);
     c.source = c.sigmaA * emission * scale;
   }
   return c;
@@ -77,7 +69,7 @@ RGB Medium::majorant() const {
     }
     case MediumType::Vdb:
       // The B-spline and trilinear stencils never exceed the largest voxel.
-      return RGB(densityScale * density->maxValue);
+      return RGB(densityScale * density->maxValue());
   }
   return RGB(0.0f);
 }

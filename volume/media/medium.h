@@ -1,7 +1,8 @@
 #pragma once
 // One participating medium: a homogeneous box, a procedural density in a box, or an
 // OpenVDB density grid. A plain struct with a switch on the kind per lookup (no virtual
-// call per sample); grids are shared, immutable and thread-safe to read.
+// call per sample); grids are shared, immutable and thread-safe to read (sparse: the
+// OpenVDB tree as read, see sparse_grid.h).
 //
 // Coefficients per unit length: sigma_t = sigma_a + sigma_s. VDB media: sigma_t =
 // density_scale * density, sigma_s = albedo * sigma_t. Box media: density (1, or the
@@ -11,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "volume/media/dense_grid.h"
 #include "volume/media/medium_desc.h"
+#include "volume/media/sparse_grid.h"
 #include "volume/phase.h"
 
 namespace lvox {
@@ -35,7 +36,10 @@ struct Medium {
   Vec3 gradient, center;
   float radius = 1.0f, frequency = 1.0f;
   // grids
-  std::shared_ptr<const DenseGrid> density, emissionGrid;
+  std::shared_ptr<const SparseGrid> density, emissionGrid;
+  // The majorant granularity tracking uses in this medium (the cheapest for its grid and
+  // density scale, see SparseGrid::cheapestMajorantLevel).
+  MajorantLevel majorantLevel = MajorantLevel::kBlock;
   float densityScale = 1.0f;
   RGB albedo{0.0f};
   Interpolation interpolation = Interpolation::Trilinear;

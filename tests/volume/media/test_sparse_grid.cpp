@@ -1,0 +1,224 @@
+// SparseGrid: the OpenVDB tree read in place (no dense copy), its interpolations, its
+// majorant trees and their hierarchical walk.
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <vector>
+
+#include "src/core/rng.h"
+#include "test_util.h"
+#include "volume/media/vdb_loader.h"
+
+namespace lvox {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A grid named "density" with voxel size 1 (index = world), built by `fill`, written to
+// `name` in a fresh directory and loaded back.
+template <class Fill>
+SparseGrid gridFrom(const std::string& name, Fill fill, GridLoadReport* reportOut = nullptr) {
+  openvdb::initialize();
+  auto grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName("density");
+  fill(*grid);
+  const fs::path path = test::tempDir() / name;
+  openvdb::io::File(path.string()).write({grid});
+  GridLoadReport report;
+  SparseGrid g = loadVdbGrid(path.string(), "density", Transform(), "media[0].grid", report);
+  if (reportOut) *reportOut = report;
+  return g;
+}
+
+template <class F>
+SparseGrid boxGrid(const std::string& name, int n, F f) {
+  return gridFrom(name, [&](openvdb::FloatGrid& grid) {
+    auto acc = grid.getAccessor();
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) acc.setValue(openvdb::Coord(i, j, k), f(i, j, k));
+  });
+}
+
+TEST(SparseGrid, InterpolationsReproduceLinearFields) {
+  // Nearest returns the voxel; trilinear and the cubic B-spline reproduce linear functions
+  // exactly (the B-spline's weights sum to 1 and have mean offset 0).
+  const auto f = [](float x, float y, float z) { return 10.0f + x + 2.0f * y + 3.0f * z; };
+  const SparseGrid g = boxGrid("linear.vdb", 16, [&](int i, int j, int k) {
+    return f(static_cast<float>(i), static_cast<float>(j), static_cast<float>(k));
+  });
+  Rng rng(3, 4);
+  for (int s = 0; s < 200; ++s) {
+    const Vec3 p(3.0f + 9.0f * rng.uniform(), 3.0f + 9.0f * rng.uniform(),
+                 3.0f + 9.0f * rng.uniform());
+    EXPECT_NEAR(g.sample(p, Interpolation::Trilinear), f(p.x, p.y, p.z), 2e-4f);
+    EXPECT_NEAR(g.sample(p, Interpolation::Tricubic), f(p.x, p.y, p.z), 2e-4f);
+    EXPECT_EQ(g.sample(p, Interpolation::Nearest),
+              f(std::floor(p.x + 0.5f), std::floor(p.y + 0.5f), std::floor(p.z + 0.5f)));
+  }
+}
+
+TEST(SparseGrid, TricubicIsTheCubicBSplineOfTheVoxels) {
+  // For v(i) = i^2 the cubic B-spline gives x^2 + 1/3 (sum of w_a (x + a)^2 with the
+  // B-spline's variance 1/3), where trilinear gives x^2 + f (1 - f), f = frac(x): two
+  // closed forms that tell the interpolations apart.
+  const SparseGrid g =
+      boxGrid("square.vdb", 16, [](int i, int, int) { return static_cast<float>(i * i); });
+  for (float x = 3.0f; x < 12.0f; x += 0.37f) {
+    const Vec3 p(x, 7.3f, 8.6f);
+    const float f = x - std::floor(x);
+    EXPECT_NEAR(g.sample(p, Interpolation::Tricubic), x * x + 1.0f / 3.0f, 1e-3f) << x;
+    EXPECT_NEAR(g.sample(p, Interpolation::Trilinear), x * x + f * (1.0f - f), 1e-3f) << x;
+  }
+}
+
+TEST(SparseGrid, OnlyActiveNonNegativeValuesAreDensity) {
+  GridLoadReport report;
+  const SparseGrid g = gridFrom(
+      "inactive.vdb",
+      [](openvdb::FloatGrid& grid) {
+        auto acc = grid.getAccessor();
+        acc.setValueOn(openvdb::Coord(1, 1, 1), 2.0f);
+        acc.setValueOn(openvdb::Coord(2, 1, 1), -3.0f);
+        acc.setValueOff(openvdb::Coord(3, 1, 1), 7.0f);  // inactive: not density
+      },
+      &report);
+  EXPECT_EQ(g.voxel(1, 1, 1), 2.0f);
+  EXPECT_EQ(g.voxel(2, 1, 1), 0.0f);
+  EXPECT_EQ(g.voxel(3, 1, 1), 0.0f);
+  EXPECT_EQ(report.clampedNegative, 1u);
+  EXPECT_EQ(report.mostNegative, -3.0f);
+  EXPECT_EQ(g.maxValue(), 2.0f);
+  EXPECT_EQ(g.activeVoxels(), 2u);
+}
+
+// Two blobs of density far apart: the grid's bounding box is 4096 voxels long.
+SparseGrid twoBlobs() {
+  return gridFrom("blobs.vdb", [](openvdb::FloatGrid& grid) {
+    auto acc = grid.getAccessor();
+    for (int blob = 0; blob < 2; ++blob)
+      for (int k = 0; k < 12; ++k)
+        for (int j = 0; j < 12; ++j)
+          for (int i = 0; i < 12; ++i)
+            acc.setValue(openvdb::Coord(blob * 4096 + i, j, k),
+                         1.0f + static_cast<float>(((i * 7 + j * 3 + k) % 5) * (blob + 1)));
+  });
+}
+
+TEST(SparseGrid, MajorantsBoundTheValuesAndZeroOutsideTheSpans) {
+  const SparseGrid g = twoBlobs();
+  Rng rng(7, 8);
+  std::vector<MajorantSpan> spans;
+  for (int r = 0; r < 200; ++r) {
+    Ray ray;
+    ray.origin =
+        Vec3(-40.0f, 6.0f + 8.0f * (rng.uniform() - 0.5f), 6.0f + 8.0f * (rng.uniform() - 0.5f));
+    // Mostly along x (through both blobs), some steep.
+    ray.dir = normalize(Vec3(1.0f, 0.2f * (rng.uniform() - 0.5f), 0.2f * (rng.uniform() - 0.5f)));
+    if (r % 4 == 0) ray.dir = normalize(Vec3(0.3f, rng.uniform() - 0.5f, rng.uniform() - 0.5f));
+    const float tmax = 4200.0f;
+    for (MajorantLevel level :
+         {MajorantLevel::kBlock, MajorantLevel::kNode, MajorantLevel::kGlobal}) {
+      spans.clear();
+      g.majorantSpans(ray, 0.0f, tmax, level, spans);
+      for (size_t s = 0; s < spans.size(); ++s) {
+        ASSERT_LT(spans[s].t0, spans[s].t1);
+        if (s > 0) {
+          ASSERT_LE(spans[s - 1].t1, spans[s].t0 + 1e-4f);
+        }
+      }
+      // Every interpolated value along the ray is below the span's majorant, and zero
+      // between spans.
+      size_t s = 0;
+      for (float t = 0.0f; t < tmax; t += 0.25f) {
+        while (s < spans.size() && spans[s].t1 <= t) ++s;
+        const bool inside = s < spans.size() && spans[s].t0 <= t;
+        for (Interpolation interp :
+             {Interpolation::Nearest, Interpolation::Trilinear, Interpolation::Tricubic}) {
+          const float v = g.sample(ray.at(t), interp);
+          if (inside)
+            ASSERT_LE(v, spans[s].majorant * (1.0f + 1e-5f)) << t;
+          else
+            ASSERT_EQ(v, 0.0f) << "t " << t << " level " << static_cast<int>(level);
+        }
+      }
+    }
+  }
+}
+
+TEST(SparseGrid, TheWalkJumpsOverEmptyNodes) {
+  const SparseGrid g = twoBlobs();
+  Ray ray;
+  ray.origin = Vec3(-40.0f, 6.0f, 6.0f);
+  ray.dir = Vec3(1.0f, 0.0f, 0.0f);
+  std::vector<MajorantSpan> spans;
+  uint64_t cells = 0;
+  g.majorantSpans(ray, 0.0f, 5000.0f, MajorantLevel::kBlock, spans, &cells);
+  // The blobs and their dilation: 4 blocks each; in between, 4096 voxels (512 blocks) of
+  // nothing cost a few steps over empty nodes of 8 and 128 blocks: about 53 of 516.
+  ASSERT_EQ(spans.size(), 2u);
+  EXPECT_NEAR(spans[0].t0, 40.0f - 8.5f, 1e-3f);
+  EXPECT_NEAR(spans[1].t1, 40.0f + 4096.0f + 16.0f + 7.5f, 1e-2f);
+  EXPECT_LT(cells, 64u);
+  std::vector<std::pair<float, float>> intervals;
+  g.intervals(ray, 0.0f, 5000.0f, intervals);
+  ASSERT_EQ(intervals.size(), 2u);
+  EXPECT_EQ(intervals[0].first, spans[0].t0);
+  EXPECT_EQ(intervals[1].second, spans[1].t1);
+}
+
+TEST(SparseGrid, AHugeTileCostsItsTileNotItsVoxels) {
+  // One active tile of 4096^3 voxels (a 2 KB file): 6.9e10 voxels that a dense copy could
+  // never hold. The values and the majorant trees stay tiles.
+  const SparseGrid g = gridFrom("tile.vdb", [](openvdb::FloatGrid& grid) {
+    grid.tree().fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(4095)), 0.5f, true);
+  });
+  EXPECT_EQ(g.activeVoxels(), 4096ull * 4096ull * 4096ull);
+  EXPECT_EQ(g.sample(Vec3(2000.3f, 17.2f, 3000.9f), Interpolation::Tricubic), 0.5f);
+  EXPECT_LT(g.memoryBytes(), 64u << 20);
+  Ray ray;
+  ray.origin = Vec3(-10.0f, 100.0f, 100.0f);
+  ray.dir = Vec3(1.0f, 0.0f, 0.0f);
+  std::vector<MajorantSpan> spans;
+  uint64_t cells = 0;
+  g.majorantSpans(ray, 0.0f, 1e5f, MajorantLevel::kBlock, spans, &cells);
+  ASSERT_EQ(spans.size(), 1u);
+  EXPECT_EQ(spans[0].majorant, 0.5f);
+  EXPECT_LT(cells, 100u);
+}
+
+TEST(SparseGrid, TheMajorantLevelFollowsTheCost) {
+  const SparseGrid g = twoBlobs();
+  // Thin: tentative collisions are rare, so the walk's steps dominate: one global span.
+  EXPECT_EQ(g.cheapestMajorantLevel(1e-4f, Interpolation::Trilinear), MajorantLevel::kGlobal);
+  // Thick: every null collision is a lookup, so the tightest majorant pays.
+  EXPECT_EQ(g.cheapestMajorantLevel(100.0f, Interpolation::Trilinear), MajorantLevel::kBlock);
+  // Deterministic.
+  EXPECT_EQ(g.cheapestMajorantLevel(1.0f, Interpolation::Tricubic),
+            g.cheapestMajorantLevel(1.0f, Interpolation::Tricubic));
+}
+
+TEST(SparseGrid, ThreadsAndGridsShareNoAccessor) {
+  // Several grids read alternately from many threads (more grids than accessor slots per
+  // thread) give exactly the single-threaded values.
+  std::vector<SparseGrid> grids;
+  for (int n = 0; n < 6; ++n)
+    grids.push_back(boxGrid("g" + std::to_string(n) + ".vdb", 20, [n](int i, int j, int k) {
+      return static_cast<float>((i * 31 + j * 17 + k * 7 + n * 13) % 23);
+    }));
+  std::vector<Vec3> points(4000);
+  Rng rng(9, 10);
+  for (Vec3& p : points) p = Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 20.0f;
+  std::vector<float> serial(points.size()), parallel(points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    serial[i] = grids[i % grids.size()].sample(points[i], Interpolation::Tricubic);
+  tbb::parallel_for(size_t{0}, points.size(), [&](size_t i) {
+    parallel[i] = grids[i % grids.size()].sample(points[i], Interpolation::Tricubic);
+  });
+  EXPECT_EQ(serial, parallel);
+}
+
+}  // namespace
+}  // namespace lvox

@@ -1,0 +1,181 @@
+// Turns a float grid as read from a file into SparseGrid's trees: values normalised in
+// place (no copy), majorant trees from the value tree's leaves and tiles.
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/combinable.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <type_traits>
+#include <vector>
+
+#include "src/core/error.h"
+#include "volume/media/sparse_grid_trees.h"
+#include "volume/media/vdb_loader.h"
+
+namespace lvox {
+namespace {
+
+using openvdb::Coord;
+using openvdb::CoordBBox;
+using openvdb::FloatTree;
+using LeafT = FloatTree::LeafNodeType;
+constexpr int kLeafDim = static_cast<int>(LeafT::DIM);  // 8
+constexpr int kLeafLog2 = static_cast<int>(LeafT::LOG2DIM);
+
+struct Census {
+  uint64_t negative = 0, nonFinite = 0;
+  float mostNegative = 0.0f, max = 0.0f;
+  void add(float v, uint64_t count) {
+    if (!std::isfinite(v)) {
+      nonFinite += count;
+    } else if (v < 0.0f) {
+      negative += count;
+      mostNegative = std::min(mostNegative, v);
+    } else {
+      max = std::max(max, v);
+    }
+  }
+  void merge(const Census& o) {
+    negative += o.negative;
+    nonFinite += o.nonFinite;
+    mostNegative = std::min(mostNegative, o.mostNegative);
+    max = std::max(max, o.max);
+  }
+};
+
+float clean(float v) { return std::isfinite(v) && v > 0.0f ? v : 0.0f; }
+
+// Inactive voxels and tiles and the background become 0 (only active values are density),
+// negative values 0; returns what was found.
+Census normalise(FloatTree& tree) {
+  tbb::combinable<Census> partial;
+  openvdb::tree::LeafManager<FloatTree> leaves(tree);
+  leaves.foreach ([&partial](LeafT& leaf, size_t) {
+    Census& c = partial.local();
+    for (openvdb::Index i = 0; i < LeafT::SIZE; ++i) {
+      if (!leaf.isValueOn(i)) {
+        leaf.setValueOnly(i, 0.0f);
+        continue;
+      }
+      const float v = leaf.getValue(i);
+      c.add(v, 1);
+      if (!(v >= 0.0f)) leaf.setValueOnly(i, 0.0f);
+    }
+  });
+  Census census;
+  partial.combine_each([&census](const Census& c) { census.merge(c); });
+  auto tile = tree.beginValueAll();
+  tile.setMaxDepth(FloatTree::ValueAllIter::LEAF_DEPTH - 1);  // tiles only
+  for (; tile; ++tile) {
+    const bool on = tile.isValueOn();
+    if (on) census.add(*tile, tile.getBoundingBox().volume());
+    if (!on || !(*tile >= 0.0f)) {
+      tile.setValue(0.0f);
+      if (!on) tile.setValueOff();
+    }
+  }
+  tree.root().setBackground(0.0f, /*updateChildNodes=*/false);
+  return census;
+}
+
+CoordBBox shiftDown(const CoordBBox& b, int log2) {
+  return {Coord(b.min().x() >> log2, b.min().y() >> log2, b.min().z() >> log2),
+          Coord(b.max().x() >> log2, b.max().y() >> log2, b.max().z() >> log2)};
+}
+
+// The maximum of each cell's children: cell c of the result covers the 8^3 cells 8c ..
+// 8c + 7 of `fine` (leaves collapse to one cell, tiles to their box shifted down).
+template <class FineTree>
+MajorantTree::Ptr coarsen(const FineTree& fine) {
+  static_assert(std::is_same_v<typename FineTree::LeafNodeType, LeafT>);
+  openvdb::tree::LeafManager<const FineTree> leaves(fine);
+  std::vector<float> leafMax(leaves.leafCount(), 0.0f);
+  leaves.foreach ([&leafMax](const LeafT& leaf, size_t n) {
+    float m = 0.0f;
+    for (auto v = leaf.cbeginValueOn(); v; ++v) m = std::max(m, *v);
+    leafMax[n] = m;
+  });
+  auto coarse = std::make_shared<MajorantTree>(0.0f);
+  openvdb::tree::ValueAccessor<MajorantTree> acc(*coarse);
+  for (size_t n = 0; n < leaves.leafCount(); ++n)
+    if (leafMax[n] > 0.0f) {
+      const Coord o = leaves.leaf(n).origin();
+      const Coord c(o.x() >> kLeafLog2, o.y() >> kLeafLog2, o.z() >> kLeafLog2);
+      acc.setValueOn(c, std::max(acc.getValue(c), leafMax[n]));
+    }
+  auto tile = fine.cbeginValueOn();
+  tile.setMaxDepth(FineTree::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile)
+    if (*tile > 0.0f) coarse->fill(shiftDown(tile.getBoundingBox(), kLeafLog2), *tile, true);
+  return coarse;
+}
+
+// Each cell's maximum over itself and its 26 neighbours (at least). Tiles are filled as
+// boxes in increasing order of value, so the larger wins where they overlap, then voxels
+// take the maximum cell by cell. A tile (whole nodes of 16^3 or more cells) is dilated by a
+// leaf of 8 cells, not 1: the box stays leaf-aligned and fills as tiles, where a one-cell
+// rim around a tile of 512^3 cells would allocate 25 k leaves.
+MajorantTree::Ptr dilateMax(const MajorantTree& own) {
+  auto dilated = std::make_shared<MajorantTree>(0.0f);
+  std::vector<std::pair<float, CoordBBox>> tiles;
+  auto tile = own.cbeginValueOn();
+  tile.setMaxDepth(MajorantTree::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile) {
+    CoordBBox b = tile.getBoundingBox();
+    b.expand(kLeafDim);
+    tiles.emplace_back(*tile, b);
+  }
+  std::sort(tiles.begin(), tiles.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [value, box] : tiles) dilated->fill(box, value, true);
+  openvdb::tree::ValueAccessor<MajorantTree> acc(*dilated);
+  for (auto leaf = own.cbeginLeaf(); leaf; ++leaf)
+    for (auto v = leaf->cbeginValueOn(); v; ++v) {
+      if (!(*v > 0.0f)) continue;
+      const Coord c = v.getCoord();
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const Coord n = c.offsetBy(dx, dy, dz);
+            const float current = acc.getValue(n);
+            if (current < *v || !acc.isValueOn(n)) acc.setValueOn(n, std::max(current, *v));
+          }
+    }
+  return dilated;
+}
+
+}  // namespace
+
+std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Ptr grid,
+                                                          const std::string& file,
+                                                          const std::string& field,
+                                                          GridLoadReport& report) {
+  static std::atomic<uint64_t> nextId{1};
+  FloatTree& tree = grid->tree();
+  const Census census = normalise(tree);
+  if (census.nonFinite > 0)
+    throw InputError(file, field,
+                     std::to_string(census.nonFinite) + " active voxels are NaN or infinite");
+  report.clampedNegative = census.negative;
+  report.mostNegative = census.mostNegative;
+  report.activeVoxels = tree.activeVoxelCount();
+  report.treeBytes = tree.memUsage();
+
+  auto trees = std::make_shared<SparseGrid::Trees>();
+  trees->values = grid;
+  trees->activeVoxels = report.activeVoxels;
+  trees->maxValue = clean(census.max);
+  tree.evalActiveVoxelBoundingBox(trees->activeBox);
+  MajorantTree::Ptr blockMax = dilateMax(*coarsen(tree));
+  MajorantTree::Ptr nodeMax = coarsen(*blockMax);
+  blockMax->evalActiveVoxelBoundingBox(trees->blockCells);
+  nodeMax->evalActiveVoxelBoundingBox(trees->nodeCells);
+  trees->blockMax = blockMax;
+  trees->nodeMax = nodeMax;
+  trees->id = nextId.fetch_add(1);
+  static_assert(kLeafDim == 8, "majorant blocks are the value tree's 8^3 leaves");
+  return trees;
+}
+
+}  // namespace lvox

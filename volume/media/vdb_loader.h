@@ -1,0 +1,26 @@
+#pragma once
+// Reading a float grid of an OpenVDB file into a SparseGrid (the tree as stored, no copy).
+#include <cstdint>
+#include <string>
+
+#include "src/core/math.h"
+#include "volume/media/sparse_grid.h"
+
+namespace lvox {
+
+struct GridLoadReport {
+  uint64_t clampedNegative = 0;
+  float mostNegative = 0.0f;
+  uint64_t activeVoxels = 0;
+  size_t treeBytes = 0;  // the value tree as OpenVDB holds it (memUsage)
+};
+
+// Loads the float grid `gridName` of `file` (errors name `field`, e.g. "media[0].grid"),
+// composing its own index->world map with `sceneTransform`. Only that grid is read. Errors:
+// missing or corrupt file, missing grid (lists the grids), non-float or level-set grid,
+// non-linear map, NaN/Inf values.
+SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
+                       const Transform& sceneTransform, const std::string& field,
+                       GridLoadReport& report);
+
+}  // namespace lvox
