@@ -1,5 +1,6 @@
 #include "src/render/mc_integrator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "src/core/sampling.h"
@@ -76,13 +77,17 @@ RGB mediumNee(const RenderContext& ctx, const MajorantTracker& tracker, const Ve
 RGB equiangularInScatter(const RenderContext& ctx, const MajorantTracker& tracker, const Ray& ray,
                          float tEnd, Rng& rng, PathCounters& counters) {
   const MediaSet& media = tracker.media();
+  const std::vector<Light>& lights = ctx.lights.lights();
+  if (std::none_of(lights.begin(), lights.end(),
+                   [](const Light& l) { return l.type != LightType::Directional; }))
+    return RGB(0.0f);  // no point or spot light: no walk for the media's extent
   thread_local std::vector<std::pair<float, float>> spans;
   spans.clear();
   media.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
   if (spans.empty()) return RGB(0.0f);
   const float a = spans.front().first, b = spans.back().second;
   RGB sum(0.0f);
-  for (const Light& light : ctx.lights.lights()) {
+  for (const Light& light : lights) {
     if (light.type == LightType::Directional) continue;
     const Vec3 toLight = light.position - ray.origin;
     const float delta = dot(toLight, ray.dir);

@@ -44,34 +44,75 @@ const Accessor& threadAccessor(const SparseGrid::Trees& trees) {
 }
 
 using LeafT = openvdb::FloatTree::LeafNodeType;
+constexpr int kLeafMask = static_cast<int>(LeafT::DIM) - 1;
+constexpr int kLeafLog2 = static_cast<int>(LeafT::LOG2DIM);
 
-// The voxels [x0, x0 + N) x [y0, y0 + N) x [z0, z0 + N) into v[z][y][x]: one probe per leaf
-// the stencil touches (at most 8; most stencils sit in one), then that leaf's buffer read
-// directly, instead of one accessor call per voxel.
+// The voxels of one leaf's region: the leaf's buffer, or one value where a tile or the
+// background covers the region.
+struct LeafView {
+  const float* data;
+  float tile;
+  float at(int i, int j, int k) const {
+    return data ? data[((i & kLeafMask) << (2 * kLeafLog2)) | ((j & kLeafMask) << kLeafLog2) |
+                       (k & kLeafMask)]
+                : tile;
+  }
+};
+
+// The leaf region each thread used last, in a plain thread-local (constant-initialised: no
+// guard on access), so lookups along a ray, which mostly stay in one leaf, cost a compare
+// before reading the buffer; the accessor is asked only when the region changes.
+struct LeafEntry {
+  uint64_t id;
+  int x, y, z;
+  const float* data;
+  float tile;
+};
+thread_local LeafEntry lastLeaf{};
+
+[[gnu::noinline]] LeafView refillLeaf(const SparseGrid::Trees& trees, int i, int j, int k) {
+  const Accessor& acc = threadAccessor(trees);
+  const openvdb::Coord c(i, j, k);
+  const LeafT* leaf = acc.probeConstLeaf(c);
+  lastLeaf = {trees.id,
+              i & ~kLeafMask,
+              j & ~kLeafMask,
+              k & ~kLeafMask,
+              leaf ? leaf->buffer().data() : nullptr,
+              leaf ? 0.0f : acc.getValue(c)};
+  return {lastLeaf.data, lastLeaf.tile};
+}
+
+// The leaf region holding voxel (i, j, k).
+inline LeafView leafAt(const SparseGrid::Trees& trees, int i, int j, int k) {
+  if (lastLeaf.id == trees.id && lastLeaf.x == (i & ~kLeafMask) && lastLeaf.y == (j & ~kLeafMask) &&
+      lastLeaf.z == (k & ~kLeafMask))
+    return {lastLeaf.data, lastLeaf.tile};
+  return refillLeaf(trees, i, j, k);
+}
+
+// The voxels [x0, x0 + N) x [y0, y0 + N) x [z0, z0 + N) into v[z][y][x]: one leaf lookup
+// per leaf region the stencil touches (at most 8; most stencils sit in one).
 template <int N>
-void gatherStencil(const Accessor& acc, int x0, int y0, int z0, float (&v)[N][N][N]) {
-  constexpr int kMask = static_cast<int>(LeafT::DIM) - 1;
-  constexpr int kLog2 = static_cast<int>(LeafT::LOG2DIM);
+void gatherStencil(const SparseGrid::Trees& trees, int x0, int y0, int z0, float (&v)[N][N][N]) {
+  if ((x0 & kLeafMask) + N <= kLeafMask + 1 && (y0 & kLeafMask) + N <= kLeafMask + 1 &&
+      (z0 & kLeafMask) + N <= kLeafMask + 1) {
+    const LeafView leaf = leafAt(trees, x0, y0, z0);
+    for (int k = 0; k < N; ++k)
+      for (int j = 0; j < N; ++j)
+        for (int i = 0; i < N; ++i) v[k][j][i] = leaf.at(x0 + i, y0 + j, z0 + k);
+    return;
+  }
   for (int z = z0; z < z0 + N;) {
-    const int zEnd = std::min(z0 + N, (z | kMask) + 1);
+    const int zEnd = std::min(z0 + N, (z | kLeafMask) + 1);
     for (int y = y0; y < y0 + N;) {
-      const int yEnd = std::min(y0 + N, (y | kMask) + 1);
+      const int yEnd = std::min(y0 + N, (y | kLeafMask) + 1);
       for (int x = x0; x < x0 + N;) {
-        const int xEnd = std::min(x0 + N, (x | kMask) + 1);
-        const openvdb::Coord c(x, y, z);
-        if (const LeafT* leaf = acc.probeConstLeaf(c)) {
-          const float* data = leaf->buffer().data();
-          for (int k = z; k < zEnd; ++k)
-            for (int j = y; j < yEnd; ++j)
-              for (int i = x; i < xEnd; ++i)
-                v[k - z0][j - y0][i - x0] =
-                    data[((i & kMask) << (2 * kLog2)) | ((j & kMask) << kLog2) | (k & kMask)];
-        } else {
-          const float tile = acc.getValue(c);  // a tile or the background: one value
-          for (int k = z; k < zEnd; ++k)
-            for (int j = y; j < yEnd; ++j)
-              for (int i = x; i < xEnd; ++i) v[k - z0][j - y0][i - x0] = tile;
-        }
+        const int xEnd = std::min(x0 + N, (x | kLeafMask) + 1);
+        const LeafView leaf = leafAt(trees, x, y, z);
+        for (int k = z; k < zEnd; ++k)
+          for (int j = y; j < yEnd; ++j)
+            for (int i = x; i < xEnd; ++i) v[k - z0][j - y0][i - x0] = leaf.at(i, j, k);
         x = xEnd;
       }
       y = yEnd;
@@ -201,20 +242,21 @@ Ray toIndexRay(const Transform& worldToIndex, const Ray& ray) {
   return local;
 }
 
-// Relative costs of a majorant-tree cell step and of one medium evaluation per
-// interpolation, from lvox_bench_media (MajorantWalk/* and MediumLookup/*) on the WDAS
-// cloud: a cell step ~ 12 ns, nearest ~ 20 ns, trilinear ~ 45 ns, tricubic ~ 350 ns.
+// Relative costs of a majorant-tree cell step and of one tentative collision (a medium
+// evaluation plus the tracking step) per interpolation, from lvox_sparse_lookups on the WDAS
+// cloud (docs/results.md, "Sparse volumes"): a cell step 70-110 ns, lookups along rays
+// 15-18 ns nearest, 41-55 ns trilinear, 128-135 ns tricubic, plus ~10 ns of tracking.
 constexpr float kCellCost = 1.0f;
 float lookupCost(Interpolation interp) {
   switch (interp) {
     case Interpolation::Nearest:
-      return 1.7f;
+      return 0.3f;
     case Interpolation::Trilinear:
-      return 3.8f;
+      return 0.6f;
     case Interpolation::Tricubic:
-      return 29.0f;
+      return 1.6f;
   }
-  return 3.8f;
+  return 0.6f;
 }
 
 }  // namespace
@@ -236,25 +278,26 @@ uint64_t SparseGrid::activeVoxels() const { return trees_ ? trees_->activeVoxels
 
 float SparseGrid::voxel(int i, int j, int k) const {
   if (!trees_) return 0.0f;
-  return threadAccessor(*trees_).getValue(openvdb::Coord(i, j, k));
+  return leafAt(*trees_, i, j, k).at(i, j, k);
 }
 
 float SparseGrid::sampleIndex(const Vec3& p, Interpolation interp) const {
   if (!trees_ ||
       !(std::abs(p.x) < kIndexLimit && std::abs(p.y) < kIndexLimit && std::abs(p.z) < kIndexLimit))
     return 0.0f;
-  const Accessor& acc = threadAccessor(*trees_);
   switch (interp) {
-    case Interpolation::Nearest:
-      return acc.getValue(openvdb::Coord(static_cast<int>(std::floor(p.x + 0.5f)),
-                                         static_cast<int>(std::floor(p.y + 0.5f)),
-                                         static_cast<int>(std::floor(p.z + 0.5f))));
+    case Interpolation::Nearest: {
+      const int i = static_cast<int>(std::floor(p.x + 0.5f));
+      const int j = static_cast<int>(std::floor(p.y + 0.5f));
+      const int k = static_cast<int>(std::floor(p.z + 0.5f));
+      return leafAt(*trees_, i, j, k).at(i, j, k);
+    }
     case Interpolation::Trilinear: {
       const float fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
       const int i = static_cast<int>(fx), j = static_cast<int>(fy), k = static_cast<int>(fz);
       const float tx = p.x - fx, ty = p.y - fy, tz = p.z - fz;
       float v[2][2][2];
-      gatherStencil(acc, i, j, k, v);
+      gatherStencil(*trees_, i, j, k, v);
       auto lerp = [](float a, float b, float t) { return a + (b - a) * t; };
       const float c00 = lerp(v[0][0][0], v[0][0][1], tx);
       const float c10 = lerp(v[0][1][0], v[0][1][1], tx);
@@ -272,7 +315,7 @@ float SparseGrid::sampleIndex(const Vec3& p, Interpolation interp) const {
       bsplineWeights(p.y - fy, wy);
       bsplineWeights(p.z - fz, wz);
       float v[4][4][4];
-      gatherStencil(acc, i - 1, j - 1, k - 1, v);
+      gatherStencil(*trees_, i - 1, j - 1, k - 1, v);
       float sum = 0.0f;
       for (int c = 0; c < 4; ++c) {
         float plane = 0.0f;

@@ -200,6 +200,15 @@ int run(const std::string& file, const std::string& gridName) {
                 static_cast<double>(cells) / static_cast<double>(rays.size()),
                 ns / static_cast<double>(cells), depth / static_cast<double>(rays.size()));
   }
+  std::printf("\ncheapest level (trilinear):");
+  for (float scale : {0.001f, 0.01f, 0.08f, 1.0f, 10.0f}) {
+    const MajorantLevel level = g.cheapestMajorantLevel(scale, Interpolation::Trilinear);
+    std::printf("  scale %g: %s", static_cast<double>(scale),
+                level == MajorantLevel::kBlock  ? "8^3"
+                : level == MajorantLevel::kNode ? "64^3"
+                                                : "global");
+  }
+  std::printf("\n");
   return 0;
 }
 
