@@ -111,7 +111,8 @@ AutoSolver::SegmentMedia AutoSolver::mediaOn(const Ray& ray, float t0, float t1)
     if (spans.empty()) continue;
     const Medium& m = media_[i];
     on.homogeneous = on.homogeneous && m.homogeneous();
-    on.sourceMayVary = on.sourceMayVary || !isBlack(m.sigmaS) || m.emissionGrid != nullptr;
+    on.sourceMayVary = on.sourceMayVary || !isBlack(m.sigmaS) || m.emissionGrid != nullptr ||
+                       m.temperatureGrid != nullptr;
     const RGB t = m.homogeneous() ? m.majorant() : RGB(0.0f);
     sigma = std::min({sigma, t.x, t.y, t.z});
     on.featureSize = std::min(on.featureSize, featureSize_[i]);

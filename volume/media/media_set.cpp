@@ -24,6 +24,24 @@ Medium boxMedium(const MediumDesc& d) {
   return m;
 }
 
+// Grids of the file that this medium does not read, named with what they could mean:
+// Blender's caches hold density, flame, heat/temperature, velocity and more in one file.
+void warnUnusedGrids(const MediumDesc& d, std::vector<std::string>& warnings) {
+  std::string unused;
+  for (const auto& [name, type] : listVdbGrids(d.file)) {
+    if (name == d.grid || name == d.emissionGrid || name == d.temperatureGrid) continue;
+    std::string meaning = "not used";
+    if (type != "float")
+      meaning = "not used: " + type + " grids (velocity, colour) have no meaning for a medium";
+    else if (name == "flame" || name == "fire")
+      meaning = "not used; as \"emission_grid\" it scales the emission";
+    else if (name == "temperature" || name == "heat")
+      meaning = "not used; as \"temperature_grid\" it gives blackbody emission";
+    unused += (unused.empty() ? "" : ", ") + ("'" + name + "' (" + meaning + ")");
+  }
+  if (!unused.empty()) warnings.push_back(d.file + ": grids " + unused);
+}
+
 }  // namespace
 
 MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation interpolation,
@@ -63,6 +81,17 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
         m.emissionGrid = std::make_shared<SparseGrid>(loadVdbGrid(
             d.file, d.emissionGrid, d.transform, d.field + ".emission_grid", emissionReport));
       }
+      if (!d.temperatureGrid.empty()) {
+        GridLoadReport temperatureReport;
+        m.temperatureGrid = std::make_shared<SparseGrid>(
+            loadVdbGrid(d.file, d.temperatureGrid, d.transform, d.field + ".temperature_grid",
+                        temperatureReport));
+        m.temperature = d.temperature;
+        m.blackbodyIntensity = d.blackbodyIntensity;
+        m.blackbody =
+            std::make_shared<BlackbodyTable>(d.temperature * m.temperatureGrid->maxValue());
+      }
+      warnUnusedGrids(d, warnings);
     } else {
       m = boxMedium(d);
     }

@@ -51,6 +51,10 @@ MediumCoefficients Medium::at(const Vec3& p) const {
     if (emissionGrid) scale = emissionGrid->sample(p, interpolation);
     c.source = c.sigmaA * emission * scale;
   }
+  if (temperatureGrid) {
+    const float kelvin = temperature * temperatureGrid->sample(p, interpolation);
+    c.source += c.sigmaA * (*blackbody)(kelvin)*blackbodyIntensity;
+  }
   return c;
 }
 
@@ -91,6 +95,7 @@ size_t Medium::memoryBytes() const {
   size_t bytes = sizeof(Medium);
   if (density) bytes += density->memoryBytes();
   if (emissionGrid) bytes += emissionGrid->memoryBytes();
+  if (temperatureGrid) bytes += temperatureGrid->memoryBytes();
   return bytes;
 }
 

@@ -7,11 +7,13 @@
 // Coefficients per unit length: sigma_t = sigma_a + sigma_s. VDB media: sigma_t =
 // density_scale * density, sigma_s = albedo * sigma_t. Box media: density (1, or the
 // procedural field) times the given sigma_a and sigma_s. The emission source term is
-// sigma_a * Le (times the emission grid where there is one).
+// sigma_a * Le (times the emission grid where there is one), plus sigma_a times the
+// blackbody radiance of the temperature grid where there is one (Kirchhoff's law).
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "volume/media/blackbody.h"
 #include "volume/media/medium_desc.h"
 #include "volume/media/sparse_grid.h"
 #include "volume/phase.h"
@@ -40,6 +42,12 @@ struct Medium {
   // The majorant granularity tracking uses in this medium (the cheapest for its grid and
   // density scale, see SparseGrid::cheapestMajorantLevel).
   MajorantLevel majorantLevel = MajorantLevel::kBlock;
+  // Blackbody emission: source += sigma_a x blackbodyIntensity x blackbody(temperature x
+  // the grid's value), tabulated up to the grid's hottest voxel.
+  std::shared_ptr<const SparseGrid> temperatureGrid;
+  std::shared_ptr<const BlackbodyTable> blackbody;
+  float temperature = 1000.0f;
+  float blackbodyIntensity = 1.0f;
   float densityScale = 1.0f;
   RGB albedo{0.0f};
   Interpolation interpolation = Interpolation::Trilinear;

@@ -32,6 +32,10 @@ void parseVdb(JsonObject& m, MediumDesc& d) {
   d.densityScale = m.number("density_scale", 0.0f, 1e9f, 1.0f);
   d.albedo = m.rgb("albedo", 0.0f, 1.0f, RGB(0.8f));
   d.emission = m.rgb("emission", 0.0f, 1e9f, RGB(0.0f));
+  d.temperatureGrid = m.string("temperature_grid", std::string());
+  // 1e5 K: sigma T^4 / pi = 1.8e12 W m^-2 sr^-1, far above any flame, well inside floats.
+  d.temperature = m.number("temperature", 0.0f, 1e5f, 1000.0f);
+  d.blackbodyIntensity = m.number("blackbody_intensity", 0.0f, 1e9f, 1.0f);
   d.transform = parseTransform(m, "transform");
 }
 

@@ -19,6 +19,10 @@ struct MediumDesc {
   std::string file;  // absolute path
   std::string grid = "density";
   std::string emissionGrid;  // optional
+  // Blackbody emission (volume/media/blackbody.h): T = temperature x the grid's value.
+  std::string temperatureGrid;  // optional
+  float temperature = 1000.0f;  // kelvin per unit of the temperature grid
+  float blackbodyIntensity = 1.0f;
   float densityScale = 1.0f;
   RGB albedo{0.8f, 0.8f, 0.8f};
   RGB emission{0.0f, 0.0f, 0.0f};  // Le multiplied by sigma_a (and the emission grid)

@@ -47,6 +47,21 @@ Transform fromVdbMatrix(const openvdb::Mat4d& m) {
 
 }  // namespace
 
+std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string& file) {
+  std::vector<std::pair<std::string, std::string>> out;
+  try {
+    initOpenVdb();
+    openvdb::io::File vdb(file);
+    vdb.open(false);
+    const openvdb::GridPtrVecPtr grids = vdb.readAllGridMetadata();  // held: the loop reads it
+    for (const auto& g : *grids) out.emplace_back(g->getName(), g->valueType());
+    vdb.close();
+  } catch (const std::exception&) {
+    out.clear();
+  }
+  return out;
+}
+
 SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                        const Transform& sceneTransform, const std::string& field,
                        GridLoadReport& report) {

@@ -2,6 +2,8 @@
 // Reading a float grid of an OpenVDB file into a SparseGrid (the tree as stored, no copy).
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "src/core/math.h"
 #include "volume/media/sparse_grid.h"
@@ -19,6 +21,10 @@ struct GridLoadReport {
 // composing its own index->world map with `sceneTransform`. Only that grid is read. Errors:
 // missing or corrupt file, missing grid (lists the grids), non-float or level-set grid,
 // non-linear map, NaN/Inf values.
+// The grids of `file` as (name, value type), read from their metadata only; empty when the
+// file cannot be read (loadVdbGrid reports that).
+std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string& file);
+
 SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                        const Transform& sceneTransform, const std::string& field,
                        GridLoadReport& report);
