@@ -45,6 +45,7 @@ VolumeSettings parseVolumeSettings(JsonObject v) {
   s.maxEvaluations = static_cast<uint32_t>(
       v.integer("max_evaluations", 1, 1 << 30, static_cast<int>(s.maxEvaluations)));
   s.majorant = v.choice("majorant", std::string(majorantName(s.majorant)), parseMajorant);
+  s.shadowCache = v.integer("shadow_cache", 0, 1024, s.shadowCache);
   v.finish();
   return s;
 }
@@ -61,6 +62,7 @@ SettingList describe(const VolumeSettings& s) {
   l.add(v + "sampling", rte::samplingName(s.sampling));
   l.add(v + "max_evaluations", s.maxEvaluations);
   l.add(v + "majorant", majorantName(s.majorant));
+  l.add(v + "shadow_cache", s.shadowCache);
   return l;
 }
 

@@ -30,6 +30,10 @@ struct VolumeSettings {
   rte::Sampling sampling = rte::Sampling::kNone;
   uint32_t maxEvaluations = 100000;  // per ray segment, then degrade gracefully
   MajorantKind majorant = MajorantKind::kGrid;
+  // Direct mode's shadow rays to point, spot and directional lights: 0 solves each one;
+  // N > 0 looks the transmittance up in a grid of N cells along the media's longest side
+  // per light, solved once per node (src/render/transmittance_cache.h).
+  int shadowCache = 64;
 };
 
 // Reads the "volume_integrator" object; unknown keys and out-of-range values throw.

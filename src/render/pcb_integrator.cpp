@@ -56,8 +56,8 @@ void checkSurfelMemory(const RenderContext& ctx, const PointCloudSettings& setti
   const double weights = settings.bounces > 0 ? 2.0 * settings.surfelGatherSamples *
                                                     kWeightsPerSurfelRay * kBytesPerWeight
                                               : 0.0;
-  const std::string what = "the point cloud (about " +
-                           std::to_string(static_cast<long long>(estimate)) + " surfels)";
+  const std::string what =
+      "the point cloud (about " + std::to_string(static_cast<long long>(estimate)) + " surfels)";
   ctx.budget->check(static_cast<uint64_t>(estimate * (kBytesPerSurfel + weights)), sceneFile,
                     surfelCountField(settings), what);
   ctx.budget->reserve(static_cast<uint64_t>(estimate * kBytesPerSurfel), sceneFile,
@@ -66,13 +66,13 @@ void checkSurfelMemory(const RenderContext& ctx, const PointCloudSettings& setti
 
 // The lvoxels, once sampled (their count depends on the media): their light, their share
 // of the octree and their interreflection weights.
-void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& settings,
-                       size_t lvoxels, const std::string& sceneFile) {
+void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& settings, size_t lvoxels,
+                       const std::string& sceneFile) {
   if (!ctx.budget || lvoxels == 0) return;
   const double n = static_cast<double>(lvoxels);
-  const double weights =
-      settings.bounces > 0 ? settings.lvoxelGatherSamples * kWeightsPerLvoxelRay * kBytesPerWeight
-                           : 0.0;
+  const double weights = settings.bounces > 0
+                             ? settings.lvoxelGatherSamples * kWeightsPerLvoxelRay * kBytesPerWeight
+                             : 0.0;
   const std::string what = "the lvoxels (" + std::to_string(lvoxels) + ")";
   ctx.budget->check(static_cast<uint64_t>(n * (kBytesPerLvoxel + weights)), sceneFile,
                     "pointcloud.lvoxel_spacing", what);
@@ -237,8 +237,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                             "the interreflection's weights");
       };
     const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, team,
-        reserve);
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, team, reserve);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;

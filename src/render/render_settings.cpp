@@ -32,10 +32,11 @@ RenderSettings parseRenderSettings(JsonObject r) {
   s.areaLightSamples = r.integer("area_light_samples", 1, 1 << 16, s.areaLightSamples);
   s.mediumLightSamples = r.integer("medium_light_samples", 1, 1 << 16, s.mediumLightSamples);
   s.threads = r.integer("threads", 0, 1024, s.threads);
-  s.maxMemory = r.choice("max_memory", "auto",
-                         [](std::string_view text, const std::string& file, const std::string& field) {
-                           return text == "auto" ? uint64_t(0) : parseByteSize(text, file, field);
-                         });
+  s.maxMemory =
+      r.choice("max_memory", "auto",
+               [](std::string_view text, const std::string& file, const std::string& field) {
+                 return text == "auto" ? uint64_t(0) : parseByteSize(text, file, field);
+               });
   r.finish();
   return s;
 }

@@ -71,7 +71,19 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     PhaseTimer timer(report, "media_load");
     media = MediaSet::build(job.media, job.volume.interpolation, report.warnings);
   }
-  const VolumeTransport volume(ctx, media, job.volume);
+  VolumeTransport volume(ctx, media, job.volume);
+  if (settings.mode == Mode::kDirect && job.volume.shadowCache > 0 && media.anyHeterogeneous()) {
+    PhaseTimer timer(report, "shadow_cache");
+    // At most (resolution + 2)^3 nodes of one RGB per light, checked before building.
+    const uint64_t side = static_cast<uint64_t>(job.volume.shadowCache) + 2;
+    budget.reserve(side * side * side * sizeof(RGB) * world.lights.size(), job.sceneFile,
+                   "volume_integrator.shadow_cache", "the shadow transmittance cache");
+    const uint64_t cameraRays =
+        static_cast<uint64_t>(world.camera.width) * world.camera.height * plan.spp;
+    report.add("shadow_cache_medium_evals",
+               volume.buildShadowCache(job.volume.shadowCache, cameraRays));
+    if (volume.shadowCache()) report.memory["shadow_cache"] = volume.shadowCache()->memoryBytes();
+  }
   const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
   const MajorantTracker tracker(media, job.volume.majorant == MajorantKind::kGrid);
   report.memory["media"] = media.memoryBytes();

@@ -1,5 +1,6 @@
 #include "src/render/volume_transport.h"
 
+#include <atomic>
 #include <cmath>
 
 #include "src/core/check.h"
@@ -95,24 +96,54 @@ RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) con
   return RGB(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
 }
 
+uint64_t VolumeTransport::buildShadowCache(int resolution, uint64_t cameraRays) {
+  // Over the heterogeneous media only: elsewhere shadow rays are cheap or leave them.
+  Bounds3 bounds;
+  for (const Medium& m : media_.media())
+    if (!m.homogeneous()) bounds.extend(m.bounds);
+  if (cameraRays * 16 < TransmittanceCache::nodeCount(bounds, resolution)) return 0;
+  std::atomic<uint64_t> evaluations{0};
+  shadowCache_ = std::make_unique<const TransmittanceCache>(
+      mediumLights_.lights(), bounds, resolution, [&](const Ray& ray) {
+        rte::SolveCounts counts;
+        const RGB t = transmittance(ray, counts);
+        evaluations += counts.mediumEvals;
+        return t;
+      });
+  return evaluations.load();
+}
+
 RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
                                          const MediumCoefficients* perMedium, Rng lightRng,
                                          rte::SolveCounts& counts) const {
   RGB source(0.0f);
-  mediumLights_.forEachSample(x, nullptr, lightRng, [&](const LightSample& s) {
+  // `cachedLight`: the index of a point, spot or directional light whose transmittance the
+  // shadow cache holds, or -1 for an exact shadow ray.
+  auto add = [&](const LightSample& s, long cachedLight) {
     Ray shadow;
     shadow.origin = x;
     shadow.dir = s.wi;
     shadow.tmin = 0.0f;
     shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
     if (ctx_.tracer.occluded(shadow)) return;
-    const RGB arriving = s.radiance * transmittance(shadow, counts);
+    const RGB t = cachedLight >= 0 ? shadowCache_->lookup(static_cast<size_t>(cachedLight), x)
+                                   : transmittance(shadow, counts);
+    const RGB arriving = s.radiance * t;
     // Light travels along -wi and leaves towards the camera along -viewDir.
     const float cosTheta = dot(s.wi, viewDir);
     for (size_t i = 0; i < media_.size(); ++i)
       if (!isBlack(perMedium[i].sigmaS))
         source += perMedium[i].sigmaS * arriving * media_[i].phase.eval(cosTheta);
-  });
+  };
+  // The same samples, in the same order, as LightSet::forEachSample.
+  const bool useCache = shadowCache_ && shadowCache_->covers(x);
+  const std::vector<Light>& lights = mediumLights_.lights();
+  for (size_t l = 0; l < lights.size(); ++l) {
+    const LightSample s = mediumLights_.sampleDelta(lights[l], x);
+    if (isBlack(s.radiance)) continue;
+    add(s, useCache && shadowCache_->cached(l) ? static_cast<long>(l) : -1);
+  }
+  mediumLights_.forEachAreaSample(x, nullptr, lightRng, [&](const LightSample& s) { add(s, -1); });
   return source;
 }
 

@@ -4,12 +4,14 @@
 // selected method (volume/rte). Only the intervals where a medium may be non-zero are
 // integrated (empty space is skipped by the media's own structure).
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
 
 #include "src/render/auto_solver.h"
 #include "src/render/render_context.h"
+#include "src/render/transmittance_cache.h"
 #include "volume/media/media_set.h"
 #include "volume/rte/solve.h"
 #include "volume/volume_settings.h"
@@ -43,6 +45,14 @@ class VolumeTransport {
   RGB singleScatterSource(const Vec3& x, const Vec3& viewDir, const MediumCoefficients* perMedium,
                           Rng lightRng, rte::SolveCounts& counts) const;
 
+  // Solves the transmittance to every point, spot and directional light once per node of a
+  // grid of `resolution` cells over the heterogeneous media (volume_integrator.shadow_cache);
+  // from then on singleScatterSource looks it up inside them. Built only when it pays: when
+  // `cameraRays` x 16 (fewer in-scatter samples than any ray through a medium takes)
+  // reaches the grid's nodes. Returns the evaluations spent (0: not built).
+  uint64_t buildShadowCache(int resolution, uint64_t cameraRays);
+  const TransmittanceCache* shadowCache() const { return shadowCache_.get(); }
+
  private:
   rte::SolveSettings<float> segmentSettings(const Ray& ray, float t0, float t1, float jitter) const;
   // The method and settings of one camera-ray segment: the scene's, or auto's choice.
@@ -56,6 +66,7 @@ class VolumeTransport {
   LightSet mediumLights_;  // render.medium_light_samples per area light and environment
   rte::Method method_ = rte::Method::kRk4;
   std::optional<AutoSolver> auto_;  // the solver "auto"
+  std::unique_ptr<const TransmittanceCache> shadowCache_;
   rte::SolveSettings<float> base_;
   bool equiangular_ = false;
   bool distanceSampling_ = false;
