@@ -11,6 +11,7 @@ nlohmann::json Report::toJson() const {
   j["memory"] = memory;
   j["settings"] = settings;
   j["warnings"] = warnings;
+  if (!work.empty()) j["work"] = work;
   if (!perRank.is_null()) j["ranks"] = perRank;
   return j;
 }

@@ -16,7 +16,11 @@ struct Report {
   std::map<std::string, uint64_t> memory;  // bytes
   std::map<std::string, std::string> settings;
   std::vector<std::string> warnings;
-  // A run split over ranks: each rank's host and times (null in one process).
+  // Units of the work phase 1 splits over ranks that this process did (surfels sampled and
+  // probed, triangles, lvoxel cells lit, ...): in one process the whole, over ranks each
+  // rank's share, reported under "ranks" (docs/cluster.md).
+  std::map<std::string, uint64_t> work;
+  // A run split over ranks: each rank's host, times and work (null in one process).
   nlohmann::json perRank;
 
   void add(const std::string& count, uint64_t n) { counts[count] += n; }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -73,8 +74,9 @@ class MpiCli : public testing::Test {
 
   // Renders alone and over two ranks with the same flags; returns (alone, ranks).
   std::pair<Image, Image> renderBoth(const std::string& flags) {
-    const RunResult alone =
-        runLvox("render " + scene() + " -o " + path("alone.exr") + " " + flags, dir_);
+    const RunResult alone = runLvox("render " + scene() + " -o " + path("alone.exr") +
+                                        " --report " + path("alone.json") + " " + flags,
+                                    dir_);
     EXPECT_EQ(alone.exitCode, 0) << alone.err;
     const RunResult ranks = test::runLvoxRanks(2,
                                                "render " + scene() + " -o " + path("ranks.exr") +
@@ -144,6 +146,51 @@ TEST_F(MpiCli, PcbSurfelsAndDirectEqualOneProcessRender) {
     const auto [alone, ranks] = renderBoth(std::string("--mode ") + mode + " --threads 1");
     EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0) << mode;
   }
+}
+
+// The point cloud is built once across the ranks, not on each: every rank samples the
+// surfels of its slice of the triangles, probes its range of them for burial, samples its
+// slices of lvoxel cells and lights its blocks of them, and the pieces are exchanged. Each rank's
+// share of that work is in the report ("work"): the shares add up to the one-process work and none
+// is all of it, and the image is identical (0 difference) in pcb (surfels and lvoxels) and
+// pcb-surfels. The second round sends everything in 4 KiB pieces: the chunked path that
+// transfers past 2 GiB take.
+TEST_F(MpiCli, PointCloudBuiltOnceAcrossRanks) {
+  for (const char* piece : {"", "4096"}) {
+    if (*piece) setenv("LVOX_MPI_PIECE_BYTES", piece, 1);
+    for (const char* mode : {"pcb", "pcb-surfels"}) {
+      SCOPED_TRACE(std::string(mode) + (*piece ? " in 4 KiB pieces" : ""));
+      const auto [alone, ranks] =
+          renderBoth(std::string("--mode ") + mode + " --spp 2 --threads 1");
+      ASSERT_GT(meanValue(alone), 0.01);
+      EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
+      nlohmann::json one = readJson(path("alone.json"));
+      nlohmann::json two = readJson(path("ranks.json"));
+      std::vector<std::string> split = {"surfel_triangles", "surfels_sampled", "surfels_probed"};
+      if (std::string(mode) == "pcb")
+        split.insert(split.end(), {"lvoxels_sampled", "lvoxel_direct_cells"});
+      ASSERT_EQ(two["ranks"].size(), 2u) << two.dump();
+      for (const std::string& key : split) {
+        const uint64_t whole = one.at("work").at(key).get<uint64_t>();
+        ASSERT_GT(whole, 0u) << key;
+        uint64_t sum = 0;
+        for (const nlohmann::json& rank : two["ranks"]) {
+          const uint64_t share = rank.at("work").at(key).get<uint64_t>();
+          EXPECT_GT(share, 0u) << key << ": a rank did none of it";
+          EXPECT_LT(share, whole) << key << ": a rank did all of it";
+          sum += share;
+        }
+        EXPECT_EQ(sum, whole) << key;
+      }
+      // The same cloud: the one-process counts, and the exchange measured on both ranks.
+      for (const char* count : {"surfels", "buried_surfels", "lvoxels", "octree_nodes"})
+        EXPECT_EQ(two["counts"][count], one["counts"][count]) << count;
+      EXPECT_EQ(one["counts"]["triangles"], two["counts"]["triangles"]);
+      for (const nlohmann::json& rank : two["ranks"])
+        EXPECT_GT(rank.at("times").at("cloud_exchange").get<double>(), 0.0) << two.dump();
+    }
+  }
+  unsetenv("LVOX_MPI_PIECE_BYTES");
 }
 
 // Each point is rendered by exactly one rank, and the CSV equals the one-process sweep's
