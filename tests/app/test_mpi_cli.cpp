@@ -129,8 +129,9 @@ TEST_F(MpiCli, McEqualsOneProcessRender) {
   EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 40u * 36u * 5u);
 }
 
-// pcb: both ranks build the same cloud, split the interreflection's gathers (sums with
-// zeros from the other rank are exact) and take bands of tiles: the image is identical.
+// pcb: the ranks build the cloud between them, split the interreflection's gathers (sums
+// with zeros from the other rank are exact) and take bands of tiles: the image is
+// identical.
 TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   const auto [alone, ranks] = renderBoth("--mode pcb --spp 2 --threads 1");
   ASSERT_GT(meanValue(alone), 0.01);
