@@ -194,6 +194,32 @@ TEST_F(MpiCli, PointCloudBuiltOnceAcrossRanks) {
   unsetenv("LVOX_MPI_PIECE_BYTES");
 }
 
+// Three ranks: uneven shares (lvoxel slices k mod 3, three triangle ranges, merges of three
+// pieces) still give the one-process cloud and image, and the shares add up.
+TEST_F(MpiCli, PointCloudOverThreeRanksEqualsOneProcessRender) {
+  const std::string flags = " --mode pcb --spp 2 --threads 1";
+  const RunResult alone = runLvox(
+      "render " + scene() + " -o " + path("alone.exr") + " --report " + path("alone.json") + flags,
+      dir_);
+  ASSERT_EQ(alone.exitCode, 0) << alone.err;
+  const RunResult three = test::runLvoxRanks(
+      3,
+      "render " + scene() + " -o " + path("three.exr") + " --report " + path("three.json") + flags,
+      dir_);
+  ASSERT_EQ(three.exitCode, 0) << three.err;
+  EXPECT_EQ(maxRelativeDifference(readExr(path("three.exr")), readExr(path("alone.exr"))), 0.0);
+  nlohmann::json one = readJson(path("alone.json"));
+  nlohmann::json all = readJson(path("three.json"));
+  ASSERT_EQ(all["ranks"].size(), 3u);
+  for (const auto& [key, whole] : one.at("work").items()) {
+    uint64_t sum = 0;
+    for (const nlohmann::json& rank : all["ranks"]) sum += rank.at("work").at(key).get<uint64_t>();
+    EXPECT_EQ(sum, whole.get<uint64_t>()) << key;
+  }
+  for (const char* count : {"surfels", "buried_surfels", "lvoxels", "octree_nodes"})
+    EXPECT_EQ(all["counts"][count], one["counts"][count]) << count;
+}
+
 // Each point is rendered by exactly one rank, and the CSV equals the one-process sweep's
 // in everything but the times.
 TEST_F(MpiCli, SweepSplitsItsPointsOverRanks) {
