@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "pointcloud/gather.h"
@@ -47,12 +48,23 @@ bool isEnclosed(const RayTracer& tracer, const Vec3& p, const Vec3& n,
 
 size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
                            const BuriedSurfelSettings& settings) {
-  tbb::parallel_for(size_t(0), surfels.size(), [&](size_t i) {
+  markEnclosedSides(surfels, tracer, settings, 0, surfels.size());
+  return removeEnclosedSurfels(surfels);
+}
+
+void markEnclosedSides(SurfelSet& surfels, const RayTracer& tracer,
+                       const BuriedSurfelSettings& settings, size_t begin, size_t end) {
+  const size_t stop = std::min(end, surfels.size());
+  if (begin >= stop) return;
+  tbb::parallel_for(begin, stop, [&](size_t i) {
     Rng rng(settings.seed ^ 0xb0c1edull, i);
     const bool front = isEnclosed(tracer, surfels.position[i], surfels.normal[i], settings, rng);
     const bool back = isEnclosed(tracer, surfels.position[i], -surfels.normal[i], settings, rng);
     surfels.enclosedSides[i] = static_cast<uint8_t>((front ? 1u : 0u) | (back ? 2u : 0u));
   });
+}
+
+size_t removeEnclosedSurfels(SurfelSet& surfels) {
   std::vector<uint32_t> keep;
   keep.reserve(surfels.size());
   for (size_t i = 0; i < surfels.size(); ++i)

@@ -38,4 +38,13 @@ struct BuriedSurfelSettings {
 size_t removeBuriedSurfels(SurfelSet& surfels, const RayTracer& tracer,
                            const BuriedSurfelSettings& settings);
 
+// Its two halves, for a set probed in parts (one per rank, docs/cluster.md): marks the
+// enclosed sides of surfels [begin, end) only (each surfel's probes are numbered by its
+// index, so parts give what the whole gives), ...
+void markEnclosedSides(SurfelSet& surfels, const RayTracer& tracer,
+                       const BuriedSurfelSettings& settings, size_t begin, size_t end);
+// ... and, once every surfel is marked, removes those enclosed on both sides (order kept);
+// returns how many.
+size_t removeEnclosedSurfels(SurfelSet& surfels);
+
 }  // namespace lvox

@@ -17,6 +17,7 @@
 
 #include "pointcloud/lvoxel_grid.h"
 #include "src/core/check.h"
+#include "src/core/collective.h"
 
 namespace lvox {
 
@@ -64,6 +65,15 @@ class LvoxelLight {
   const RGB& multiScatter(uint32_t slot) const { return multiScatter_[slot]; }
   // L_s for the point cloud: direct + multiple scattering.
   RGB inScatter(uint32_t slot) const { return directInScatter_[slot] + multiScatter_[slot]; }
+
+  // Over several ranks that each filled the direct light (transmittance, towards the
+  // camera, area in-scatter) of some cells and left the others zero: the sums over the
+  // ranks give every rank every cell's light (adding zeros is exact). Collective.
+  void sumDirectOverRanks(Collective& team) {
+    team.sum(floatsOf(transmittance_));
+    team.sum(floatsOf(towardsCamera_));
+    team.sum(floatsOf(areaInScatter_));
+  }
 
   // Camera rays: the light at p, blended trilinearly from the 8 surrounding cell centres
   // over the occupied ones only (weights renormalised, so the light does not fade towards

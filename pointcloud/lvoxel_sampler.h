@@ -33,6 +33,10 @@ struct LvoxelSettings {
   int samplesPerAxis = 2;          // jittered samples per cell = samplesPerAxis^3 (2 -> 8)
   size_t maxLvoxels = 50'000'000;  // guards against a spacing far too small
   uint64_t seed = 1;
+  // Only the slices of cells k (along z) with k % sliceCount == sliceIndex: one rank's
+  // share of the sampling (docs/cluster.md). Each cell's lvoxel depends on its cell alone,
+  // so the shares merged in cell order are the whole set.
+  long sliceIndex = 0, sliceCount = 1;
 };
 
 namespace detail {
@@ -114,6 +118,7 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
   // One slice of cells (fixed k) per task; slices are concatenated in order.
   std::vector<detail::LvoxelSlice> slices(static_cast<size_t>(grid.cells[2]));
   tbb::parallel_for(long(0), grid.cells[2], [&](long k) {
+    if (settings.sliceCount > 1 && k % settings.sliceCount != settings.sliceIndex) return;
     detail::LvoxelSlice& slice = slices[static_cast<size_t>(k)];
     for (long j = 0; j < grid.cells[1]; ++j)
       for (long i = 0; i < grid.cells[0]; ++i) {

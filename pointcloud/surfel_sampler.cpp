@@ -335,26 +335,28 @@ SurfelSet sampleSurfelsUniform(const TriangleMesh& mesh, const std::vector<Mater
     const Vec2 b = mesh.barycentricOf(tri, p);
     return textures->isCutAway(static_cast<uint32_t>(tri), b.x, b.y);
   };
-  std::vector<size_t> offsets(n + 1, 0);
-  tbb::parallel_for(size_t(0), n, [&](size_t tri) {
+  const size_t first = std::min(settings.firstTriangle, n);
+  const size_t end = std::clamp(settings.endTriangle, first, n);
+  std::vector<size_t> offsets(end - first + 1, 0);
+  tbb::parallel_for(first, end, [&](size_t tri) {
     size_t c = 0;
     trianglePoints(triangleInfo(mesh, tri), tri, smallCounts[tri], borders[tri], settings,
                    [&](const Vec3& p, const DiskClip&) {
                      if (!cutAway(tri, p)) ++c;
                    });
-    offsets[tri + 1] = c;
+    offsets[tri - first + 1] = c;
   });
-  for (size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+  for (size_t i = 0; i + 1 < offsets.size(); ++i) offsets[i + 1] += offsets[i];
 
   SurfelSet surfels;
   surfels.radiusScale = settings.radiusScale;
-  surfels.resize(offsets[n]);
+  surfels.resize(offsets.back());
   const float radius = diskRadius(settings);
-  tbb::parallel_for(size_t(0), n, [&](size_t tri) {
+  tbb::parallel_for(first, end, [&](size_t tri) {
     const TriangleInfo t = triangleInfo(mesh, tri);
     const Material& material = materialOf(mesh, materials, tri);
     const bool textured = textures && material.albedoMap >= 0;
-    size_t k = offsets[tri];
+    size_t k = offsets[tri - first];
     trianglePoints(
         t, tri, smallCounts[tri], borders[tri], settings, [&](const Vec3& p, const DiskClip& clip) {
           if (cutAway(tri, p)) return;

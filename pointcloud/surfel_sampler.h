@@ -1,5 +1,6 @@
 #pragma once
 // The two ways of turning the scene's triangles into surfels (phase 1).
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,11 @@ struct UniformSurfelSettings {
   // lattice cover the plane (covering radius 0.6204 * spacing < 0.6488 * spacing).
   float radiusScale = 1.15f;
   uint64_t seed = 1;
+  // Only the triangles [firstTriangle, endTriangle) (clamped to the mesh): exactly the
+  // surfels, in the same order, that sampling the whole mesh puts on them, so slices
+  // sampled apart (one per rank) and concatenated in triangle order are the whole set.
+  size_t firstTriangle = 0;
+  size_t endTriangle = SIZE_MAX;
 };
 inline constexpr float kLatticeMinSurfels = 4.0f;
 

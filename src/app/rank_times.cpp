@@ -14,6 +14,8 @@ void collectRankTimes(Collective& team, Report& report) {
   mine["rank"] = team.rank();
   mine["host"] = host;
   mine["times"] = report.times;
+  mine["cpu_times"] = report.cpuTimes;
+  mine["work"] = report.work;
   const std::vector<std::string> all = team.gather(mine.dump(), 0);
   if (!team.isRoot()) return;
   report.perRank = nlohmann::json::array();

@@ -7,8 +7,8 @@
 
 namespace lvox {
 
-// Collective: gathers every rank's host and phase times into the root's report (its
-// "ranks" array, report.h). Does nothing in one process.
+// Collective: gathers every rank's host, phase times and work (Report::work) into the root's report
+// (its "ranks" array, report.h). Does nothing in one process.
 void collectRankTimes(Collective& team, Report& report);
 
 // At the root: one line per rank, "rank R (HOST): phase S s, ...".

@@ -1,8 +1,11 @@
 #include "src/cluster/mpi_collective.h"
 
+#include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace lvox {
 namespace {
@@ -18,11 +21,22 @@ void allreduceSum(std::span<T> values, MPI_Datatype type) {
   }
 }
 
+// Root's `count` bytes at `data` to every rank, in pieces of at most `piece` bytes.
+void broadcastBytes(char* data, size_t count, int root, size_t piece) {
+  for (size_t begin = 0; begin < count; begin += piece)
+    MPI_Bcast(data + begin, static_cast<int>(std::min(piece, count - begin)), MPI_BYTE, root,
+              MPI_COMM_WORLD);
+}
+
 }  // namespace
 
 MpiCollective::MpiCollective() {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (const char* piece = std::getenv("LVOX_MPI_PIECE_BYTES")) {
+    const long long bytes = std::atoll(piece);
+    if (bytes > 0 && bytes <= INT_MAX) pieceBytes_ = static_cast<size_t>(bytes);
+  }
   const MPI_Aint bytes = rank_ == 0 ? static_cast<MPI_Aint>(sizeof(uint64_t)) : 0;
   MPI_Win_allocate(bytes, sizeof(uint64_t), MPI_INFO_NULL, MPI_COMM_WORLD, &counter_, &window_);
   if (rank_ == 0) *counter_ = 0;
@@ -54,6 +68,42 @@ std::vector<std::string> MpiCollective::gather(const std::string& bytes, int roo
   for (size_t r = 0; r < lengths.size(); ++r)
     out.push_back(all.substr(static_cast<size_t>(offsets[r]), static_cast<size_t>(lengths[r])));
   return out;
+}
+
+std::vector<std::string> MpiCollective::allgather(const std::string& bytes) {
+  const uint64_t mine = bytes.size();
+  std::vector<uint64_t> lengths(static_cast<size_t>(size_));
+  MPI_Allgather(&mine, 1, MPI_UINT64_T, lengths.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+  const uint64_t total = std::accumulate(lengths.begin(), lengths.end(), uint64_t(0));
+  std::vector<std::string> out(lengths.size());
+  if (total <= pieceBytes_) {
+    // One MPI_Allgatherv: its counts and offsets fit in ints.
+    std::vector<int> counts(lengths.size()), offsets(lengths.size(), 0);
+    for (size_t r = 0; r < lengths.size(); ++r) counts[r] = static_cast<int>(lengths[r]);
+    std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
+    std::string all(static_cast<size_t>(total), '\0');
+    MPI_Allgatherv(bytes.data(), static_cast<int>(mine), MPI_BYTE, all.data(), counts.data(),
+                   offsets.data(), MPI_BYTE, MPI_COMM_WORLD);
+    for (size_t r = 0; r < lengths.size(); ++r)
+      out[r] = all.substr(static_cast<size_t>(offsets[r]), static_cast<size_t>(counts[r]));
+    return out;
+  }
+  // Past one piece: each rank's bytes broadcast from it in pieces (the same bytes moved).
+  for (size_t r = 0; r < lengths.size(); ++r) {
+    if (static_cast<int>(r) == rank_)
+      out[r] = bytes;
+    else
+      out[r].assign(static_cast<size_t>(lengths[r]), '\0');
+    broadcastBytes(out[r].data(), out[r].size(), static_cast<int>(r), pieceBytes_);
+  }
+  return out;
+}
+
+void MpiCollective::broadcast(std::string& bytes, int root) {
+  uint64_t length = bytes.size();
+  MPI_Bcast(&length, 1, MPI_UINT64_T, root, MPI_COMM_WORLD);
+  if (rank_ != root) bytes.assign(static_cast<size_t>(length), '\0');
+  broadcastBytes(bytes.data(), bytes.size(), root, pieceBytes_);
 }
 
 void MpiCollective::barrier() { MPI_Barrier(MPI_COMM_WORLD); }

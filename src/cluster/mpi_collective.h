@@ -21,12 +21,17 @@ class MpiCollective final : public Collective {
   void sum(std::span<double> values) override;
   void sum(std::span<uint64_t> values) override;
   std::vector<std::string> gather(const std::string& bytes, int root) override;
+  std::vector<std::string> allgather(const std::string& bytes) override;
+  void broadcast(std::string& bytes, int root) override;
   void barrier() override;
   void resetCounter() override;
   uint64_t take(uint64_t n) override;
 
  private:
   int rank_ = 0, size_ = 1;
+  // Largest piece of one MPI byte transfer (counts are ints): 1 GiB, or
+  // LVOX_MPI_PIECE_BYTES (tests exercise the chunked paths with small pieces).
+  size_t pieceBytes_ = size_t(1) << 30;
   MPI_Win window_ = MPI_WIN_NULL;
   uint64_t* counter_ = nullptr;  // in the window; rank 0's is the shared one
 };

@@ -1,11 +1,11 @@
 #pragma once
 // The processes of one run that is split over several (MPI ranks under mpirun or srun), as
 // the libraries see them: who am I, how many are we, sum these numbers over all of us,
-// hand out work from one shared counter. The libraries call it only between phases, per
-// interreflection pass and per band of tiles, never per sample. They do not know MPI: the
-// app gives them src/cluster's MPI implementation when it was started by an MPI launcher,
-// else SingleProcess, under which every call is trivial and the render is the ordinary
-// one-process render.
+// share these bytes, hand out work from one shared counter. The libraries call it only between
+// phases, per interreflection pass and per band of tiles, never per sample. They do not know MPI:
+// the app gives them src/cluster's MPI implementation when it was started by an MPI launcher, else
+// SingleProcess, under which every call is trivial and the render is the ordinary one-process
+// render.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -30,6 +30,12 @@ class Collective {
   virtual void sum(std::span<uint64_t> values) = 0;
   // Collective: at `root`, every rank's bytes in rank order; elsewhere an empty vector.
   virtual std::vector<std::string> gather(const std::string& bytes, int root) = 0;
+  // Collective: every rank passes its own bytes (any length, 0 included); on return every
+  // rank holds all of them in rank order (MPI_Allgatherv; past 2 GiB in all, one chunked
+  // broadcast per rank). For data built in parallel across the ranks, then shared.
+  virtual std::vector<std::string> allgather(const std::string& bytes) = 0;
+  // Collective: on return every rank's `bytes` are root's (MPI_Bcast, chunked past 2 GiB).
+  virtual void broadcast(std::string& bytes, int root) = 0;
   // Collective: waits until every rank has arrived.
   virtual void barrier() = 0;
 
@@ -49,6 +55,8 @@ class SingleProcess final : public Collective {
   void sum(std::span<double>) override {}
   void sum(std::span<uint64_t>) override {}
   std::vector<std::string> gather(const std::string& bytes, int) override { return {bytes}; }
+  std::vector<std::string> allgather(const std::string& bytes) override { return {bytes}; }
+  void broadcast(std::string&, int) override {}
   void barrier() override {}
   void resetCounter() override { counter_ = 0; }
   uint64_t take(uint64_t n) override {

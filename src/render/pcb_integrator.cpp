@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 
 #include "pointcloud/buried_surfels.h"
 #include "pointcloud/gather.h"
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
 #include "src/core/error.h"
+#include "src/render/cloud_exchange.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/pcb_media.h"
 #include "src/render/surface_albedo.h"
@@ -100,36 +102,83 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   return o;
 }
 
-SurfelSet sampleSurfels(const RenderContext& ctx, SurfelSamplerKind sampler, float spacing) {
+// The surfels one process samples, each sampled once across the ranks (cloud_exchange.h):
+// with the uniform sampler each rank samples the triangles of its slice and the slices are
+// exchanged; the camera sampler (one grid of camera rays, cheap next to the burial probes)
+// runs on every rank.
+SurfelSet sampleSurfelSlices(const RenderContext& ctx, SurfelSamplerKind sampler, float spacing,
+                             const std::string& sceneFile, const PointCloudSettings& settings,
+                             Collective& team, Report& report) {
   const World& world = ctx.world;
   if (!(spacing > 0.0f)) return {};  // no surfaces (a scene of media only)
   if (sampler == SurfelSamplerKind::kCamera)
     return sampleSurfelsFromCamera(
         ctx.tracer, world.materials, world.camera,
         CameraSurfelSettings{0.1f, 2.0f, 1.15f, 0.1f, ctx.settings.seed});
-  UniformSurfelSettings settings;
-  settings.spacing = spacing;
-  settings.seed = ctx.settings.seed;
-  return sampleSurfelsUniform(world.mesh, world.materials, settings, ctx.tracer.textures());
+  UniformSurfelSettings uniform;
+  uniform.spacing = spacing;
+  uniform.seed = ctx.settings.seed;
+  if (team.distributed()) {
+    const std::vector<size_t> slices = triangleSlices(world.mesh, team.size());
+    uniform.firstTriangle = slices[static_cast<size_t>(team.rank())];
+    uniform.endTriangle = slices[static_cast<size_t>(team.rank()) + 1];
+  }
+  report.work["surfel_triangles"] +=
+      std::min(uniform.endTriangle, world.mesh.triangleCount()) - uniform.firstTriangle;
+  SurfelSet slice =
+      sampleSurfelsUniform(world.mesh, world.materials, uniform, ctx.tracer.textures());
+  report.work["surfels_sampled"] += slice.size();
+  if (!team.distributed()) return slice;
+  PhaseTimer timer(report, "cloud_exchange");
+  if (ctx.budget)  // the bytes of every slice and the whole set they become, for a moment
+    ctx.budget->check(
+        2 * slice.size() * static_cast<uint64_t>(team.size()) * SurfelSet::bytesPerElement(),
+        sceneFile, surfelCountField(settings), "the surfels exchanged between ranks");
+  return allgatherSurfels(std::move(slice), team);
 }
 
-void removeBuried(const RenderContext& ctx, float burialReach, float spacing, SurfelSet& surfels,
+// Marks and removes the buried surfels (buried_surfels.h), each rank probing an equal range
+// of them and the marks exchanged (one byte per surfel).
+void removeBuried(const RenderContext& ctx, float reach, SurfelSet& surfels, Collective& team,
                   Report& report) {
-  const float reach = burialReach * spacing;
   if (!(reach > 0.0f) || surfels.size() == 0) return;
-  report.add("buried_surfels",
-             removeBuriedSurfels(surfels, ctx.tracer,
-                                 {reach, 16, ctx.settings.seed, ctx.world.camera.position}));
+  const BuriedSurfelSettings burial{reach, 16, ctx.settings.seed, ctx.world.camera.position};
+  const auto share = [&](int r) {
+    return surfels.size() * static_cast<size_t>(r) / static_cast<size_t>(team.size());
+  };
+  const size_t begin = share(team.rank()), end = share(team.rank() + 1);
+  markEnclosedSides(surfels, ctx.tracer, burial, begin, end);
+  report.work["surfels_probed"] += end - begin;
+  if (team.distributed()) {
+    PhaseTimer timer(report, "cloud_exchange");
+    const std::string mine(reinterpret_cast<const char*>(surfels.enclosedSides.data() + begin),
+                           end - begin);
+    const std::vector<std::string> all = team.allgather(mine);
+    for (int r = 0; r < team.size(); ++r) {
+      const std::string& marks = all[static_cast<size_t>(r)];
+      if (marks.size() != share(r + 1) - share(r))
+        throw std::runtime_error("the burial marks received from rank " + std::to_string(r) + ": " +
+                                 std::to_string(marks.size()) + " bytes, expected " +
+                                 std::to_string(share(r + 1) - share(r)));
+      std::copy(marks.begin(), marks.end(),
+                reinterpret_cast<char*>(surfels.enclosedSides.data() + share(r)));
+    }
+  }
+  report.add("buried_surfels", removeEnclosedSurfels(surfels));
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
 // lvoxel cells (their light, pcb_media.h).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
-                 rte::SolveCounts& counts, Collective& team) {
+                 rte::SolveCounts& counts, Collective& team, Report& report) {
   const World& world = ctx.world;
   PointCloud& cloud = *cache.cloud;
   LvoxelLight& lvoxelLight = cloud.mutableLvoxels().light;
-  if (cache.lvoxels) cacheLvoxelDirectLight(ctx, volume, lvoxelLight, counts);
+  if (cache.lvoxels) {
+    PhaseTimer timer(report, "lvoxel_direct");  // a part of "direct_cache"
+    report.work["lvoxel_direct_cells"] +=
+        cacheLvoxelDirectLight(ctx, volume, lvoxelLight, counts, team);
+  }
   tbb::combinable<rte::SolveCounts> perThread;
   cacheDirectLight(
       cloud,
@@ -195,15 +244,18 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   SurfelSet surfels;
   {
     PhaseTimer timer(report, "surfel_sampling");
-    surfels = sampleSurfels(ctx, settings.surfelSampler, spacing);
-    removeBuried(ctx, settings.burialReach, spacing, surfels, report);
+    surfels =
+        sampleSurfelSlices(ctx, settings.surfelSampler, spacing, sceneFile, settings, team, report);
+    removeBuried(ctx, settings.burialReach * spacing, surfels, team, report);
   }
   LvoxelSet lvoxels;
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_sampling");
+    size_t sampled = 0;
     lvoxels = sampleSceneLvoxels(volume.media(),
                                  lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
-                                 settings.lvoxelSamples, seed, ctx.lights);
+                                 settings.lvoxelSamples, seed, ctx.lights, team, &sampled);
+    report.work["lvoxels_sampled"] += sampled;
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
@@ -220,7 +272,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   rte::SolveCounts counts;
   {
     PhaseTimer timer(report, "direct_cache");
-    cacheDirect(ctx, volume, cache, counts, team);
+    cacheDirect(ctx, volume, cache, counts, team, report);
   }
   const int passes = settings.bounces;
   if (passes > 0) {
@@ -245,6 +297,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     // Parts of "interreflection": the rest is the passes' products and updates.
     report.times["interreflection_trace"] = stats.traceSeconds;
     if (team.distributed()) report.times["interreflection_exchange"] = stats.exchangeSeconds;
+  }
+  if (team.distributed()) {  // each rank counted the direct light of its own elements
+    std::vector<uint64_t> evals{counts.mediumEvals};
+    team.sum(evals);
+    counts.mediumEvals = evals[0];
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);

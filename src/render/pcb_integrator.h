@@ -31,10 +31,12 @@ struct PointBasedCache {
 
 // Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of
 // `settings` in errors found only now (an lvoxel spacing far too small for the media).
-// Over several ranks (`team`), every rank samples the same cloud and lvoxel light from the
-// seed; the surfels' direct light, the interreflection's gathers and the screen grid's
-// gathers are split between them (light_cache.h, indirect_grid.h): each rank ends with
-// the cloud and caches one process builds.
+// Over several ranks (`team`), the cloud is built once across them: each samples and
+// probes its share of the surfels, samples and lights its share of the lvoxels, and the
+// pieces are exchanged (cloud_exchange.h; each rank's share is in report.work); the
+// octree is built by every rank from the same elements. The surfels' direct light, the
+// interreflection's gathers and the screen grid's gathers are split too (light_cache.h,
+// indirect_grid.h): each rank ends with the cloud and caches one process builds.
 PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport& volume,
                                 const PointCloudSettings& settings, const std::string& sceneFile,
                                 Report& report, Collective& team = singleProcess());

@@ -9,6 +9,7 @@
 
 #include "pointcloud/lvoxel_sampler.h"
 #include "src/core/error.h"
+#include "src/render/cloud_exchange.h"
 
 namespace lvox {
 namespace {
@@ -69,27 +70,41 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 }
 
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             uint64_t seed, const LightSet& lights) {
-  LvoxelSet all;
+                             uint64_t seed, const LightSet& lights, Collective& team,
+                             size_t* sampled) {
   LvoxelSettings settings;
   settings.spacing = spacing;
   settings.samplesPerAxis = samplesPerAxis;
   settings.seed = seed;
+  settings.sliceIndex = team.rank();
+  settings.sliceCount = team.size();
+  std::vector<LvoxelSet> perMedium;
+  size_t mine = 0;
   for (const Medium& m : media.media()) {
     const MediumForLvoxels adapter{m, media.bounds(), activeBoxes(m)};
-    all.append(sampleLvoxels(adapter, settings));
+    perMedium.push_back(sampleLvoxels(adapter, settings));
+    mine += perMedium.back().size();
   }
+  if (sampled) *sampled = mine;
+  if (team.distributed()) perMedium = allgatherLvoxels(perMedium, team);
+  LvoxelSet all;
+  for (const LvoxelSet& part : perMedium) all.append(part);
   all.light.setChannels(lights.lights().size(), media.size());
   return all;
 }
 
-void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
-                            LvoxelLight& light, rte::SolveCounts& counts) {
+size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
+                              LvoxelLight& light, rte::SolveCounts& counts, Collective& team) {
   const LightSet& lights = ctx.lights;
   const MediaSet& media = volume.media();
   const size_t deltaCount = lights.lights().size();
+  const auto ranks = static_cast<size_t>(team.size());
+  const auto rank = static_cast<size_t>(team.rank());
+  auto mine = [&](size_t slot) { return (slot / kLvoxelDirectBlock) % ranks == rank; };
   tbb::combinable<rte::SolveCounts> perThread;
+  // Cells not this rank's keep the zeros setChannels and occupy gave them.
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t slot) {
+    if (!mine(slot)) return;
     rte::SolveCounts& local = perThread.local();
     const Vec3 x = light.centre(static_cast<uint32_t>(slot));
     RGB* transmittance = light.transmittance(static_cast<uint32_t>(slot));
@@ -120,6 +135,11 @@ void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& vol
     light.areaInScatter(cell) = isotropic * kInv4Pi;
   });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
+  if (team.distributed()) light.sumDirectOverRanks(team);
+  size_t lit = 0;
+  for (size_t slot = 0; slot < light.occupiedCount(); slot += kLvoxelDirectBlock)
+    if (mine(slot)) lit += std::min(kLvoxelDirectBlock, light.occupiedCount() - slot);
+  return lit;
 }
 
 RGB phaseAveragedDirect(const LightSet& lights, LvoxelLight& light, uint32_t slot) {

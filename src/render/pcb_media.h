@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pointcloud/lvoxels.h"
+#include "src/core/collective.h"
 #include "src/render/render_context.h"
 #include "src/render/volume_transport.h"
 #include "volume/media/media_set.h"
@@ -23,13 +24,22 @@ namespace lvox {
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile);
 
 // Samples lvoxels in every medium on one grid of the given spacing over all media; their
-// light has a transmittance channel per delta light of `lights`.
+// light has a transmittance channel per delta light of `lights`. Over several ranks
+// (`team`), rank r samples the slices of cells k with k mod N = r and the shares are
+// exchanged (cloud_exchange.h); every rank ends with the one-process set. `sampled`
+// receives the number of lvoxels this rank sampled.
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             uint64_t seed, const LightSet& lights);
+                             uint64_t seed, const LightSet& lights,
+                             Collective& team = singleProcess(), size_t* sampled = nullptr);
 
-// Fills every occupied cell with its direct light (see above).
-void cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
-                            LvoxelLight& light, rte::SolveCounts& counts);
+// Fills every occupied cell with its direct light (see above). Over several ranks
+// (`team`), the cells go in blocks of kLvoxelDirectBlock, block b on rank b mod N, and the
+// sums over the ranks give each rank every cell's light, as one process computes it.
+// Returns the number of cells this rank lit.
+inline constexpr size_t kLvoxelDirectBlock = 64;
+size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
+                              LvoxelLight& light, rte::SolveCounts& counts,
+                              Collective& team = singleProcess());
 
 // In-scattered radiance at a cell for the point cloud's isotropic cache: the phase-averaged
 // direct light, sum over delta lights of L Tr / (4 pi) plus the area lights' in-scatter.

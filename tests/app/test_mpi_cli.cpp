@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -73,8 +74,9 @@ class MpiCli : public testing::Test {
 
   // Renders alone and over two ranks with the same flags; returns (alone, ranks).
   std::pair<Image, Image> renderBoth(const std::string& flags) {
-    const RunResult alone =
-        runLvox("render " + scene() + " -o " + path("alone.exr") + " " + flags, dir_);
+    const RunResult alone = runLvox("render " + scene() + " -o " + path("alone.exr") +
+                                        " --report " + path("alone.json") + " " + flags,
+                                    dir_);
     EXPECT_EQ(alone.exitCode, 0) << alone.err;
     const RunResult ranks = test::runLvoxRanks(2,
                                                "render " + scene() + " -o " + path("ranks.exr") +
@@ -127,8 +129,9 @@ TEST_F(MpiCli, McEqualsOneProcessRender) {
   EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 40u * 36u * 5u);
 }
 
-// pcb: both ranks build the same cloud, split the interreflection's gathers (sums with
-// zeros from the other rank are exact) and take bands of tiles: the image is identical.
+// pcb: the ranks build the cloud between them, split the interreflection's gathers (sums
+// with zeros from the other rank are exact) and take bands of tiles: the image is
+// identical.
 TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   const auto [alone, ranks] = renderBoth("--mode pcb --spp 2 --threads 1");
   ASSERT_GT(meanValue(alone), 0.01);
@@ -144,6 +147,77 @@ TEST_F(MpiCli, PcbSurfelsAndDirectEqualOneProcessRender) {
     const auto [alone, ranks] = renderBoth(std::string("--mode ") + mode + " --threads 1");
     EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0) << mode;
   }
+}
+
+// The point cloud is built once across the ranks, not on each: every rank samples the
+// surfels of its slice of the triangles, probes its range of them for burial, samples its
+// slices of lvoxel cells and lights its blocks of them, and the pieces are exchanged. Each rank's
+// share of that work is in the report ("work"): the shares add up to the one-process work and none
+// is all of it, and the image is identical (0 difference) in pcb (surfels and lvoxels) and
+// pcb-surfels. The second round sends everything in 4 KiB pieces: the chunked path that
+// transfers past 2 GiB take.
+TEST_F(MpiCli, PointCloudBuiltOnceAcrossRanks) {
+  for (const char* piece : {"", "4096"}) {
+    if (*piece) setenv("LVOX_MPI_PIECE_BYTES", piece, 1);
+    for (const char* mode : {"pcb", "pcb-surfels"}) {
+      SCOPED_TRACE(std::string(mode) + (*piece ? " in 4 KiB pieces" : ""));
+      const auto [alone, ranks] =
+          renderBoth(std::string("--mode ") + mode + " --spp 2 --threads 1");
+      ASSERT_GT(meanValue(alone), 0.01);
+      EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
+      nlohmann::json one = readJson(path("alone.json"));
+      nlohmann::json two = readJson(path("ranks.json"));
+      std::vector<std::string> split = {"surfel_triangles", "surfels_sampled", "surfels_probed"};
+      if (std::string(mode) == "pcb")
+        split.insert(split.end(), {"lvoxels_sampled", "lvoxel_direct_cells"});
+      ASSERT_EQ(two["ranks"].size(), 2u) << two.dump();
+      for (const std::string& key : split) {
+        const uint64_t whole = one.at("work").at(key).get<uint64_t>();
+        ASSERT_GT(whole, 0u) << key;
+        uint64_t sum = 0;
+        for (const nlohmann::json& rank : two["ranks"]) {
+          const uint64_t share = rank.at("work").at(key).get<uint64_t>();
+          EXPECT_GT(share, 0u) << key << ": a rank did none of it";
+          EXPECT_LT(share, whole) << key << ": a rank did all of it";
+          sum += share;
+        }
+        EXPECT_EQ(sum, whole) << key;
+      }
+      // The same cloud: the one-process counts, and the exchange measured on both ranks.
+      for (const char* count : {"surfels", "buried_surfels", "lvoxels", "octree_nodes"})
+        EXPECT_EQ(two["counts"][count], one["counts"][count]) << count;
+      EXPECT_EQ(one["counts"]["triangles"], two["counts"]["triangles"]);
+      for (const nlohmann::json& rank : two["ranks"])
+        EXPECT_GT(rank.at("times").at("cloud_exchange").get<double>(), 0.0) << two.dump();
+    }
+  }
+  unsetenv("LVOX_MPI_PIECE_BYTES");
+}
+
+// Three ranks: uneven shares (lvoxel slices k mod 3, three triangle ranges, merges of three
+// pieces) still give the one-process cloud and image, and the shares add up.
+TEST_F(MpiCli, PointCloudOverThreeRanksEqualsOneProcessRender) {
+  const std::string flags = " --mode pcb --spp 2 --threads 1";
+  const RunResult alone = runLvox(
+      "render " + scene() + " -o " + path("alone.exr") + " --report " + path("alone.json") + flags,
+      dir_);
+  ASSERT_EQ(alone.exitCode, 0) << alone.err;
+  const RunResult three = test::runLvoxRanks(
+      3,
+      "render " + scene() + " -o " + path("three.exr") + " --report " + path("three.json") + flags,
+      dir_);
+  ASSERT_EQ(three.exitCode, 0) << three.err;
+  EXPECT_EQ(maxRelativeDifference(readExr(path("three.exr")), readExr(path("alone.exr"))), 0.0);
+  nlohmann::json one = readJson(path("alone.json"));
+  nlohmann::json all = readJson(path("three.json"));
+  ASSERT_EQ(all["ranks"].size(), 3u);
+  for (const auto& [key, whole] : one.at("work").items()) {
+    uint64_t sum = 0;
+    for (const nlohmann::json& rank : all["ranks"]) sum += rank.at("work").at(key).get<uint64_t>();
+    EXPECT_EQ(sum, whole.get<uint64_t>()) << key;
+  }
+  for (const char* count : {"surfels", "buried_surfels", "lvoxels", "octree_nodes"})
+    EXPECT_EQ(all["counts"][count], one["counts"][count]) << count;
 }
 
 // Each point is rendered by exactly one rank, and the CSV equals the one-process sweep's
