@@ -105,8 +105,9 @@ int runCompare(const CompareFlags& f) {
       throw InputError(f.heatmap, "--heatmap", "must end in .png");
     checkOutputPath(f.heatmap, "--heatmap", {f.test, f.reference});
   }
-  const Image test = f.layer.empty() ? readExr(f.test) : readLayer(f.test, f.layer);
-  const Image reference = f.layer.empty() ? readExr(f.reference) : readLayer(f.reference, f.layer);
+  const Image test = f.layer.empty() ? readAnyImage(f.test) : readLayer(f.test, f.layer);
+  const Image reference =
+      f.layer.empty() ? readAnyImage(f.reference) : readLayer(f.reference, f.layer);
   const ImageError e = compareImages(test, reference, f.test, f.reference);
   if (!f.heatmap.empty()) writeHeatmap(f.heatmap, test, reference);
   if (f.json) {

@@ -101,5 +101,20 @@ TEST(CompareCli, LayerOfMultiLayerExr) {
   EXPECT_NE(err.find("depth"), std::string::npos) << err;
 }
 
+// compare reads any image OpenImageIO reads: two 8-bit PNGs, values as stored (0..1).
+TEST(CompareCli, ReadsPng) {
+  const auto dir = test::tempDir();
+  writePngRgb8((dir / "a.png").string(), 2, 2, std::vector<uint8_t>(12, 102));
+  writePngRgb8((dir / "b.png").string(), 2, 2, std::vector<uint8_t>(12, 51));
+  int rc = -1;
+  const nlohmann::json j = nlohmann::json::parse(
+      runCapture(std::string(LVOX_BINARY) + " compare " + (dir / "a.png").string() + " " +
+                     (dir / "b.png").string() + " --json",
+                 rc));
+  ASSERT_EQ(rc, 0);
+  EXPECT_NEAR(j["mean_ratio"].get<double>(), 2.0, 1e-5);
+  EXPECT_NEAR(j["max_abs"].get<double>(), 0.2, 1e-5);  // (102 - 51) / 255
+}
+
 }  // namespace
 }  // namespace lvox
