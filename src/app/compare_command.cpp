@@ -1,4 +1,5 @@
-// `lvox compare A.exr B.exr [--json] [--heatmap H.png]`: error of A against reference B.
+// `lvox compare A.exr B.exr [--json] [--heatmap H.png] [--layer NAME]`: error of A against
+// reference B.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include "src/app/commands.h"
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
+#include "src/core/exr_channels.h"
 #include "src/core/image_io.h"
 #include "src/core/image_metrics.h"
 
@@ -17,7 +19,7 @@ namespace lvox {
 namespace {
 
 struct CompareFlags {
-  std::string test, reference, heatmap;
+  std::string test, reference, heatmap, layer;
   bool json = false;
 };
 
@@ -48,14 +50,64 @@ void writeHeatmap(const std::string& path, const Image& test, const Image& refer
   writePngRgb8(path, test.width, test.height, rgb);
 }
 
+// One layer of an EXR as an RGB image. A layer matches by its full name or by its last
+// components (a Cycles file's "ViewLayer.Combined" matches "Combined"); its channels are
+// R, G, B, or X, Y, Z, or one channel (Y, Z, V, ...) taken as grey. A missing or ambiguous
+// layer throws InputError naming the layers the file has.
+Image readLayer(const std::string& path, const std::string& layer) {
+  const ExrChannels ch = readExrChannels(path);
+  std::vector<std::string> layers;
+  for (const auto& n : ch.names) {
+    const std::string l = channelLayer(n);
+    if (std::find(layers.begin(), layers.end(), l) == layers.end()) layers.push_back(l);
+  }
+  std::vector<std::string> matches;
+  for (const auto& l : layers)
+    if (l == layer || (l.size() > layer.size() && l.ends_with("." + layer))) matches.push_back(l);
+  auto list = [&](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& l : v)
+      s += (s.empty() ? "" : ", ") + (l.empty() ? std::string("(colour)") : l);
+    return s;
+  };
+  if (std::find(matches.begin(), matches.end(), layer) != matches.end()) matches = {layer};
+  if (matches.empty())
+    throw InputError(path, "--layer", "no layer '" + layer + "'; the file has: " + list(layers));
+  if (matches.size() > 1)
+    throw InputError(path, "--layer", "layer '" + layer + "' is ambiguous: " + list(matches));
+  const std::string prefix = matches[0].empty() ? "" : matches[0] + ".";
+  std::vector<const std::vector<float>*> planes;
+  for (const auto& trio : {std::array<const char*, 3>{"R", "G", "B"}, {"X", "Y", "Z"}}) {
+    planes.clear();
+    for (const char* c : trio)
+      if (const auto* p = ch.find(prefix + c)) planes.push_back(p);
+    if (planes.size() == 3) break;
+  }
+  if (planes.size() != 3) {
+    planes.clear();
+    for (const auto& n : ch.names)
+      if (channelLayer(n) == matches[0]) planes.push_back(ch.find(n));
+    if (planes.size() != 1)
+      throw InputError(
+          path, "--layer",
+          "layer '" + matches[0] + "' has neither R, G, B nor X, Y, Z nor one channel");
+    planes = {planes[0], planes[0], planes[0]};
+  }
+  Image image(ch.width, ch.height, RGB(0.0f));
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = RGB((*planes[0])[i], (*planes[1])[i], (*planes[2])[i]);
+  return image;
+}
+
 int runCompare(const CompareFlags& f) {
   if (!f.heatmap.empty()) {
     if (std::filesystem::path(f.heatmap).extension() != ".png")
       throw InputError(f.heatmap, "--heatmap", "must end in .png");
     checkOutputPath(f.heatmap, "--heatmap", {f.test, f.reference});
   }
-  const Image test = readExr(f.test);
-  const Image reference = readExr(f.reference);
+  const Image test = f.layer.empty() ? readAnyImage(f.test) : readLayer(f.test, f.layer);
+  const Image reference =
+      f.layer.empty() ? readAnyImage(f.reference) : readLayer(f.reference, f.layer);
   const ImageError e = compareImages(test, reference, f.test, f.reference);
   if (!f.heatmap.empty()) writeHeatmap(f.heatmap, test, reference);
   if (f.json) {
@@ -88,6 +140,8 @@ void addCompareCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("reference", flags->reference, "Reference image (EXR)")->required();
   cmd->add_flag("--json", flags->json, "Print the metrics as JSON");
   cmd->add_option("--heatmap", flags->heatmap, "Write a false-colour relative-error PNG");
+  cmd->add_option("--layer", flags->layer,
+                  "Compare this EXR layer (e.g. albedo; Combined matches ViewLayer.Combined)");
   cmd->callback([flags, &exitCode]() { exitCode = runCompare(*flags); });
 }
 

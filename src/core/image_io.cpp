@@ -8,11 +8,13 @@
 #include <ImfOutputFile.h>
 #include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
+#include <OpenImageIO/imageio.h>
 #include <png.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "src/core/atomic_file.h"
@@ -156,6 +158,36 @@ Image readExr(const std::string& path, ImageMetadata* metadata) {
   } catch (const std::exception& e) {
     throw InputError(path, "", "not a readable OpenEXR file: " + shortMessage(e));
   }
+}
+
+Image readAnyImage(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".exr") return readExr(path);
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw InputError(path, "", std::string("cannot open: ") + std::strerror(errno));
+  }
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    std::string msg = OIIO::geterror();
+    msg = msg.substr(0, msg.find('\n'));
+    throw InputError(path, "", "not a readable image: " + msg);
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 ||
+      static_cast<long long>(spec.width) * spec.height > (1ll << 28))
+    throw InputError(path, "", "image has an invalid size");
+  const int channels = spec.nchannels;
+  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+    throw InputError(path, "", "cannot read the image's pixels");
+  Image image(spec.width, spec.height);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    const float* p = &pixels[i * static_cast<size_t>(channels)];
+    image.pixels[i] = channels >= 3 ? RGB(p[0], p[1], p[2]) : RGB(p[0]);
+  }
+  return image;
 }
 
 uint8_t toneMap(float linear, float exposure) {

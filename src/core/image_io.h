@@ -28,6 +28,11 @@ ExrWriteStats writeExr(const std::string& path, const Image& image, bool half = 
 // corrupt or incomplete file. String attributes are returned in `metadata`.
 Image readExr(const std::string& path, ImageMetadata* metadata = nullptr);
 
+// Any image OpenImageIO reads (PNG, HDR, TIFF, JPEG, ...; an .exr goes to readExr): its
+// first three channels as R, G, B, or its one channel as grey, values as the file stores
+// them (8-bit PNG as 0..1, no sRGB decoding). Throws InputError on an unreadable file.
+Image readAnyImage(const std::string& path);
+
 // The preview tone map: per channel 1 - exp(-exposure * x) (keeps hue for moderate values,
 // compresses highlights smoothly, never clips), then the sRGB transfer curve, to 8 bits.
 uint8_t toneMap(float linear, float exposure = 1.0f);
