@@ -19,6 +19,7 @@
 #include "src/core/error.h"
 #include "src/core/file_hash.h"
 #include "src/core/image_io.h"
+#include "src/render/layers.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 
@@ -43,6 +44,7 @@ struct RenderFlags {
   double timeLimit = 0.0;
   std::string convergenceReference;
   std::string convergenceCsv;
+  std::string layers;
   bool half = false;
   bool quiet = false;
 };
@@ -112,6 +114,18 @@ std::vector<SettingOverride> overrides(const RenderFlags& f) {
   addOverride(out, flags::kStep, f.step);
   addOverride(out, flags::kTolerance, f.tolerance);
   return out;
+}
+
+// --layers: "all" is every layer the mode has; the variance is Monte Carlo's only (pcb's
+// error is mostly bias, which a sample variance does not show).
+LayerSet parseLayers(const std::string& list, Mode mode) {
+  if (list.empty()) return {};
+  const LayerSet layers = LayerSet::parse(list, mode == Mode::kMc, "--layers");
+  if (layers.has(Layer::kVariance) && mode != Mode::kMc)
+    throw InputError("--layers", "variance",
+                     "is a layer of mode mc only (a pcb image's error is mostly bias, which a "
+                     "sample variance does not measure)");
+  return layers;
 }
 
 // The profiling lines of the point-based modes: phase times, element counts, memory.
@@ -194,6 +208,7 @@ int runRender(const RenderFlags& flags, Collective& team) {
   plan.firstSample = flags.firstSample;
   plan.timeLimitSeconds = flags.timeLimit;
   plan.team = &team;
+  plan.layers = parseLayers(flags.layers, scene.render.mode);
   Image reference;
   if (!flags.convergenceReference.empty()) {
     if (flags.convergenceCsv.empty())
@@ -227,7 +242,7 @@ int runRender(const RenderFlags& flags, Collective& team) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   collectRankTimes(team, report);
   if (!team.isRoot()) return 0;  // the root writes the one image and report
-  outputs.write(image, report, flags.half, [&](OutputSet& set) {
+  outputs.write(image, result.layers, report, flags.half, [&](OutputSet& set) {
     if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
   });
   if (!flags.quiet) {
@@ -277,6 +292,9 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option("--convergence", flags->convergenceReference,
                   "Reference EXR: record the error after 1, 2, 4, ... spp");
   cmd->add_option("--convergence-csv", flags->convergenceCsv, "Where the convergence CSV goes");
+  cmd->add_option("--layers", flags->layers,
+                  "AOV layers to write in the EXR beside the beauty: all, or a list of " +
+                      namesOf(kLayerNames) + " (variance: mc only; docs/outputs.md)");
   cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
   cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
   cmd->callback([flags, &exitCode, &team]() { exitCode = runRender(*flags, team); });

@@ -25,12 +25,13 @@ RenderOutputs::RenderOutputs(std::string exrPath, std::string reportPath,
   }
 }
 
-void RenderOutputs::write(const Image& image, Report& report, bool half,
+void RenderOutputs::write(const Image& image, const std::vector<ExtraChannel>& layers,
+                          Report& report, bool half,
                           const std::function<void(OutputSet&)>& extra) const {
   OutputSet set;
   ImageMetadata meta;
   for (const auto& [key, value] : report.settings) meta["lvox." + key] = value;
-  const ExrWriteStats stats = writeExr(exr_, image, half, meta, &set);
+  const ExrWriteStats stats = writeExr(exr_, image, half, meta, &set, layers);
   if (stats.sanitized)
     report.warnings.push_back(std::to_string(stats.sanitized) +
                               " NaN/Inf/negative values written as 0");

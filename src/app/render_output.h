@@ -8,6 +8,7 @@
 
 #include "src/core/atomic_file.h"
 #include "src/core/image.h"
+#include "src/core/image_io.h"
 #include "src/render/report.h"
 
 namespace lvox {
@@ -18,9 +19,9 @@ class RenderOutputs {
   // or any output would overwrite one of `inputs`.
   RenderOutputs(std::string exrPath, std::string reportPath, std::vector<std::string> inputs);
 
-  // Stages the EXR, the PNG, the report and whatever `extra` stages, then publishes them
-  // together: either all are in place or none is.
-  void write(const Image& image, Report& report, bool half,
+  // Stages the EXR (the image and its AOV `layers`), the PNG, the report and whatever
+  // `extra` stages, then publishes them together: either all are in place or none is.
+  void write(const Image& image, const std::vector<ExtraChannel>& layers, Report& report, bool half,
              const std::function<void(OutputSet&)>& extra = {}) const;
   const std::string& exrPath() const { return exr_; }
   const std::string& pngPath() const { return png_; }

@@ -30,17 +30,26 @@ void Progress::finish() {
   if (enabled_) std::fprintf(stderr, "\r\033[K");
 }
 
-void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
+void accumulateTiles(Film& film, uint64_t firstSample, int count, uint64_t seed,
                      const PixelSampler& sample, TileStats& stats, const char* label) {
-  accumulateRows(sum, 0, sum.height, firstSample, count, seed, sample, stats, label);
+  accumulateRows(film, 0, film.height(), firstSample, count, seed, sample, stats, label);
 }
 
-void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, int count,
+namespace {
+
+bool validRadiance(const RGB& v) {
+  return isFinite(v) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
+}
+
+}  // namespace
+
+void accumulateRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample, int count,
                     uint64_t seed, const PixelSampler& sample, TileStats& stats,
                     const char* label) {
   constexpr int kTile = 16;
-  const int width = sum.width;
+  const int width = film.width();
   const int rows = rowEnd - rowBegin;
+  const bool layered = film.hasLayers();
   Progress progress(label, static_cast<uint64_t>(width) * rows);
   std::atomic<uint64_t> invalid{0};
   tbb::parallel_for(
@@ -50,16 +59,20 @@ void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, 
         for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
           for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
             RGB acc(0.0f);
+            PixelLayerSums layerSums{};
             for (int s = 0; s < count; ++s) {
               Rng rng = sampleRng(seed, width, x, y, firstSample + static_cast<uint64_t>(s));
-              const RGB v = sample(x, y, rng);
-              if (!isFinite(v) || v.x < 0.0f || v.y < 0.0f || v.z < 0.0f) {
+              SampleLayers layers;
+              const RGB v = sample(x, y, rng, layered ? &layers : nullptr);
+              if (!validRadiance(v) || (layered && !film.finite(layers))) {
                 ++tileInvalid;
                 continue;
               }
               acc += v;
+              if (layered) film.addSample(layerSums, v, layers);
             }
-            sum.at(x, y) += acc;
+            film.beauty.at(x, y) += acc;
+            if (layered) film.addPixel(x, y, layerSums);
           }
         invalid += tileInvalid;
         progress.advance(static_cast<uint64_t>(tile.rows().size()) * tile.cols().size());
@@ -67,14 +80,6 @@ void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, 
   progress.finish();
   stats.samples += static_cast<uint64_t>(width) * rows * static_cast<uint64_t>(count);
   stats.invalidSamples += invalid.load();
-}
-
-Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,
-                  TileStats& stats, const char* label) {
-  Image image(width, height);
-  accumulateTiles(image, 0, spp, seed, sample, stats, label);
-  for (RGB& p : image.pixels) p /= static_cast<float>(spp);
-  return image;
 }
 
 }  // namespace lvox
