@@ -294,7 +294,7 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option("--convergence-csv", flags->convergenceCsv, "Where the convergence CSV goes");
   cmd->add_option("--layers", flags->layers,
                   "AOV layers to write in the EXR beside the beauty: all, or a list of " +
-                      namesOf(kLayerNames) + " (variance: mc only; docs/outputs.md)");
+                      namesOf(kLayerNames) + " (variance: mc only; docs/layers.md)");
   cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
   cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
   cmd->callback([flags, &exitCode, &team]() { exitCode = runRender(*flags, team); });

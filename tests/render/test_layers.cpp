@@ -23,7 +23,7 @@ RenderResult renderLayers(const std::string& text, Mode mode, const std::string&
   scene.render.mode = mode;
   RenderPlan plan;
   plan.spp = spp;
-  plan.layers = LayerSet::parse(layers, mode == Mode::kMc, "test");
+  if (!layers.empty()) plan.layers = LayerSet::parse(layers, mode == Mode::kMc, "test");
   Report report;
   return renderScene(scene.job(), plan, report);
 }
@@ -160,6 +160,10 @@ TEST(Layers, RadianceLayersAddUpToTheBeauty) {
     // Not a trivial split: the fog and the lamp both show.
     EXPECT_GT(volume, 0.0) << m;
     EXPECT_GT(emission, 0.0) << m;
+    // Asking for layers does not change the image, bit for bit.
+    const RenderResult plain = renderLayers(scene, mode, "");
+    EXPECT_TRUE(plain.layers.empty());
+    EXPECT_EQ(plain.image.pixels, r.image.pixels) << m;
   }
 }
 
