@@ -1,5 +1,6 @@
 #include "src/app/render_output.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -25,6 +26,12 @@ RenderOutputs::RenderOutputs(std::string exrPath, std::string reportPath,
   }
 }
 
+void RenderOutputs::setPreviewExposure(double stops) {
+  if (!(stops >= -20.0 && stops <= 20.0))
+    throw InputError("--exposure", "", "must be a number of stops in [-20, 20]");
+  previewScale_ = static_cast<float>(std::exp2(stops));
+}
+
 void RenderOutputs::write(const Image& image, const std::vector<ExtraChannel>& layers,
                           Report& report, bool half,
                           const std::function<void(OutputSet&)>& extra) const {
@@ -38,7 +45,7 @@ void RenderOutputs::write(const Image& image, const std::vector<ExtraChannel>& l
   if (stats.clamped)
     report.warnings.push_back(std::to_string(stats.clamped) +
                               " values above 65504 clamped in the half-float EXR");
-  writePng(png_, image, 1.0f, &set);
+  writePng(png_, image, previewScale_, &set);
   if (!report_.empty()) {
     const std::string text = report.toJson().dump(2) + "\n";
     set.stage(report_, [&](const std::string& tmp) {

@@ -23,12 +23,16 @@ class RenderOutputs {
   // `extra` stages, then publishes them together: either all are in place or none is.
   void write(const Image& image, const std::vector<ExtraChannel>& layers, Report& report, bool half,
              const std::function<void(OutputSet&)>& extra = {}) const;
+  // The PNG preview's exposure in stops (the EXR is never scaled): pixels x 2^stops before
+  // the tone map. Throws InputError outside [-20, 20].
+  void setPreviewExposure(double stops);
   const std::string& exrPath() const { return exr_; }
   const std::string& pngPath() const { return png_; }
 
  private:
   std::string exr_, png_, report_;
   std::vector<std::string> inputs_;
+  float previewScale_ = 1.0f;
 };
 
 }  // namespace lvox

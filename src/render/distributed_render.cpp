@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <span>
 
+#include "src/core/progress.h"
+
 namespace lvox {
 namespace {
 
@@ -34,6 +36,9 @@ RenderResult renderDistributed(int width, int height, uint64_t seed, const Pixel
                                const RenderPlan& plan, RenderSplit split, Collective& team,
                                TileStats& stats, Report& report) {
   Film film(width, height, plan.layers);
+  // Each rank's own share, about 1/N of the samples.
+  Progress::global().addWork(static_cast<uint64_t>(width) * height *
+                             static_cast<uint64_t>(plan.spp) / static_cast<uint64_t>(team.size()));
   if (split == RenderSplit::kSampleRanges)
     renderSampleRange(film, seed, sample, plan, team, stats);
   else

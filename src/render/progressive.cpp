@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "src/core/progress.h"
+
 namespace lvox {
 namespace {
 
@@ -26,6 +28,8 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
   using Clock = std::chrono::steady_clock;
   RenderResult result;
   Film film(width, height, plan.layers);
+  Progress::global().addWork(static_cast<uint64_t>(width) * height *
+                             static_cast<uint64_t>(plan.spp));
   const bool progressive = plan.timeLimitSeconds > 0.0 || plan.reference != nullptr;
   const auto start = Clock::now();
   double secondsPerSample = 0.0;

@@ -4,7 +4,6 @@
 // the order in which tiles run, and samples [a, b) rendered in one run are exactly those
 // of a longer run: progressive passes and chunked references add up to the same image.
 // Non-finite or negative samples are zeroed and counted: they never reach the image.
-#include <atomic>
 #include <cstdint>
 #include <functional>
 
@@ -20,20 +19,6 @@ struct TileStats {
   uint64_t invalidSamples = 0;
 };
 
-class Progress {
- public:
-  Progress(const char* label, uint64_t total);
-  void advance(uint64_t n);
-  void finish();
-
- private:
-  const char* label_;
-  uint64_t total_;
-  std::atomic<uint64_t> done_{0};
-  std::atomic<int> shownPercent_{-1};
-  bool enabled_;
-};
-
 // `sample(x, y, rng, layers)` returns one radiance sample of pixel (x, y); when `layers` is
 // not null (layers were asked for) it also fills them (layers.h).
 using PixelSampler = std::function<RGB(int x, int y, Rng& rng, SampleLayers* layers)>;
@@ -47,10 +32,9 @@ inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleInde
 // Adds samples [firstSample, firstSample + count) of every pixel to the film (unnormalised),
 // with their layers when the film has any.
 void accumulateTiles(Film& film, uint64_t firstSample, int count, uint64_t seed,
-                     const PixelSampler& sample, TileStats& stats, const char* label = "render");
+                     const PixelSampler& sample, TileStats& stats);
 // The same for the pixels of rows [rowBegin, rowEnd) only.
 void accumulateRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample, int count,
-                    uint64_t seed, const PixelSampler& sample, TileStats& stats,
-                    const char* label = "render");
+                    uint64_t seed, const PixelSampler& sample, TileStats& stats);
 
 }  // namespace lvox

@@ -51,8 +51,8 @@ TEST_F(LayersCli, ChunksMergeToTheLayersOfOneRender) {
   const ExrChannels merged = readExrChannels(path("merged.exr"));
   EXPECT_EQ(whole.metadata.at("lvox.layers"),
             "direct,indirect,volume,emission,environment,albedo,normal,depth,variance");
-  for (const char* name : {"R", "direct.R", "indirect.G", "volume.B", "environment.R",
-                           "albedo.G", "normal.Y", "depth.Z", "coverage.Y", "variance.R"})
+  for (const char* name : {"R", "direct.R", "indirect.G", "volume.B", "environment.R", "albedo.G",
+                           "normal.Y", "depth.Z", "coverage.Y", "variance.R"})
     ASSERT_NE(whole.find(name), nullptr) << name;
   ASSERT_EQ(whole.names, merged.names);
   double varianceSum = 0.0;
