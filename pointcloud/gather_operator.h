@@ -16,6 +16,7 @@
 
 #include "pointcloud/gather.h"
 #include "src/core/check.h"
+#include "src/core/progress.h"
 
 namespace lvox {
 
@@ -128,6 +129,10 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
       part_(static_cast<size_t>(part)),
       parts_(static_cast<size_t>(std::max(parts, 1))) {
   LVOX_CHECK(part >= 0 && part_ < parts_, "gather operator part out of range");
+  uint64_t ownedRows = 0;
+  for (size_t b = 0; b < blocks_.size(); ++b)
+    if (owns(b)) ownedRows += std::min(rows, (b + 1) * kRowsPerBlock) - b * kRowsPerBlock;
+  Progress::global().addWork(ownedRows);  // tracing the rows is most of the phase
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
     if (!owns(b)) return;
     Block& block = blocks_[b];
@@ -142,6 +147,7 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
       appendMerged(row, entries, block.rowEnd);
     }
     store(entries, block);
+    Progress::global().advance(end - begin);
     if (reserve)
       reserve(block.column.size() * sizeof(uint32_t) + block.greyWeight.size() * sizeof(float) +
               block.colourWeight.size() * sizeof(RGB) + block.rowEnd.size() * sizeof(uint32_t));

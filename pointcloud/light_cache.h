@@ -12,6 +12,7 @@
 #include "pointcloud/gather.h"
 #include "pointcloud/gather_operator.h"
 #include "src/core/collective.h"
+#include "src/core/progress.h"
 
 namespace lvox {
 
@@ -45,7 +46,9 @@ void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
   SurfelSet& s = cloud.mutableSurfels();
   const size_t blocks = (s.size() + kDirectBlock - 1) / kDirectBlock;
   const auto ranks = static_cast<size_t>(team.size());
+  Progress::global().addWork(blocks);
   tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    Progress::global().advance(1);
     const bool mine = b % ranks == static_cast<size_t>(team.rank());
     for (size_t i = b * kDirectBlock; i < std::min(s.size(), (b + 1) * kDirectBlock); ++i) {
       if (!mine) {
@@ -224,9 +227,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
       change += blockChange[b];
       total += blockTotal[b];
     }
-    storeMultiScatter(l, lvoxelGathered.data(), [&](RGB& value, const RGB& next) {
-      updateInto(change, total, value, next);
-    });
+    storeMultiScatter(l, lvoxelGathered.data(),
+                      [&](RGB& value, const RGB& next) { updateInto(change, total, value, next); });
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();
   }

@@ -10,6 +10,7 @@
 #include "src/app/commands.h"
 #include "src/core/atomic_file.h"
 #include "src/core/error.h"
+#include "src/core/exr_channels.h"
 #include "src/core/image_io.h"
 
 namespace lvox {
@@ -26,6 +27,7 @@ struct Chunk {
   Image image;
   uint64_t first = 0;
   uint64_t spp = 0;
+  ExrChannels channels;  // every channel, read when the chunk has AOV layers
 };
 
 uint64_t numberAttribute(const ImageMetadata& meta, const std::string& key,
@@ -43,7 +45,8 @@ uint64_t numberAttribute(const ImageMetadata& meta, const std::string& key,
 // Chunks of one image share every setting that changes it: the scene and its files, the
 // seed and mode, every setting of the render, the volume integrator and the point cloud.
 bool sharedSetting(const std::string& key) {
-  for (const char* exact : {"lvox.seed", "lvox.mode", "lvox.scene", "lvox.scene_hash"})
+  for (const char* exact :
+       {"lvox.seed", "lvox.mode", "lvox.scene", "lvox.scene_hash", "lvox.layers"})
     if (key == exact) return true;
   for (const char* prefix : {"lvox.render.", "lvox.volume_integrator.", "lvox.pointcloud."})
     if (key.rfind(prefix, 0) == 0) return true;
@@ -115,6 +118,69 @@ void checkCoverage(const std::vector<Chunk>& chunks, const MergeFlags& f) {
                          " are missing: render them, then merge again (nothing written)");
 }
 
+// A channel of a chunk, which its lvox.layers promise.
+const std::vector<float>& channel(const Chunk& c, const std::string& name) {
+  const std::vector<float>* plane = c.channels.find(name);
+  if (!plane) throw InputError(c.path, name, "missing, though the chunk's lvox.layers name it");
+  return *plane;
+}
+
+// The variance of one beauty channel's mean over all chunks, from each chunk's mean m_i
+// and variance of the mean v_i over n_i samples: sum x^2 = n_i (n_i - 1) v_i + n_i m_i^2.
+std::vector<float> mergedVariance(const std::vector<Chunk>& chunks, const std::string& name, int c,
+                                  uint64_t total) {
+  const size_t n = chunks[0].image.pixels.size();
+  std::vector<double> sum(n, 0.0), squares(n, 0.0);
+  for (const Chunk& k : chunks) {
+    const std::vector<float>& v = channel(k, name);
+    const double ni = static_cast<double>(k.spp);
+    for (size_t i = 0; i < n; ++i) {
+      const double m = k.image.pixels[i][c];
+      sum[i] += ni * m;
+      squares[i] += ni * (ni - 1.0) * v[i] + ni * m * m;
+    }
+  }
+  std::vector<float> out(n, 0.0f);
+  const double nt = static_cast<double>(total);
+  if (total < 2) return out;
+  for (size_t i = 0; i < n; ++i) {
+    const double mean = sum[i] / nt;
+    out[i] = static_cast<float>(std::max(0.0, (squares[i] - nt * mean * mean) / (nt - 1.0)) / nt);
+  }
+  return out;
+}
+
+// Each layer channel of the merged image: means weighted by samples; depth by the samples
+// that hit a surface (spp x coverage); the variance recombined from the chunks' moments.
+std::vector<ExtraChannel> mergedLayers(const std::vector<Chunk>& chunks, uint64_t total) {
+  std::vector<ExtraChannel> out;
+  const size_t n = chunks[0].image.pixels.size();
+  for (const std::string& name : chunks[0].channels.names) {
+    if (channelLayer(name).empty()) continue;  // the beauty
+    const std::string layer = channelLayer(name);
+    if (layer == "variance") {
+      const int c = name.back() == 'R' ? 0 : name.back() == 'G' ? 1 : 2;
+      out.push_back({name, mergedVariance(chunks, name, c, total)});
+      continue;
+    }
+    std::vector<double> sum(n, 0.0), weight(n, 0.0);
+    for (const Chunk& k : chunks) {
+      const std::vector<float>& v = channel(k, name);
+      const std::vector<float>* coverage = layer == "depth" ? &channel(k, "coverage.Y") : nullptr;
+      for (size_t i = 0; i < n; ++i) {
+        const double w = static_cast<double>(k.spp) * (coverage ? (*coverage)[i] : 1.0f);
+        sum[i] += w * v[i];
+        weight[i] += w;
+      }
+    }
+    ExtraChannel merged{name, std::vector<float>(n, 0.0f)};
+    for (size_t i = 0; i < n; ++i)
+      if (weight[i] > 0.0) merged.values[i] = static_cast<float>(sum[i] / weight[i]);
+    out.push_back(std::move(merged));
+  }
+  return out;
+}
+
 int runMerge(const MergeFlags& f) {
   if (std::filesystem::path(f.output).extension() != ".exr")
     throw InputError(f.output, "--output", "must end in .exr");
@@ -123,10 +189,11 @@ int runMerge(const MergeFlags& f) {
   ImageMetadata first;
   for (const std::string& path : f.inputs) {
     ImageMetadata meta;
-    Chunk c{path, readExr(path, &meta), 0, 0};
+    Chunk c{path, readExr(path, &meta), 0, 0, {}};
     c.first = numberAttribute(meta, "lvox.first_sample", path);
     c.spp = numberAttribute(meta, "lvox.spp", path);
     if (c.spp == 0) throw InputError(path, "lvox.spp", "is 0");
+    if (meta.count("lvox.layers")) c.channels = readExrChannels(path);
     if (chunks.empty()) {
       first = meta;
     } else {
@@ -156,7 +223,7 @@ int runMerge(const MergeFlags& f) {
   out["lvox.spp"] = std::to_string(total);
   out["lvox.first_sample"] = std::to_string(chunks[0].first);
   out["lvox.merged_from"] = std::to_string(chunks.size());
-  writeExr(f.output, sum, false, out);
+  writeExr(f.output, sum, false, out, nullptr, mergedLayers(chunks, total));
   std::cerr << "lvox: merged " << chunks.size() << " chunks, " << total << " spp -> " << f.output
             << "\n";
   return 0;

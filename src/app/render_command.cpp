@@ -1,4 +1,6 @@
 // `lvox render SCENE.json -o OUT.exr [...]`: flags override the scene file.
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -19,8 +21,12 @@
 #include "src/core/error.h"
 #include "src/core/file_hash.h"
 #include "src/core/image_io.h"
+#include "src/core/progress.h"
+#include "src/render/layers.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
+#include "volume/rte/method.h"
+#include "volume/volume_settings.h"
 
 namespace lvox {
 namespace {
@@ -43,6 +49,8 @@ struct RenderFlags {
   double timeLimit = 0.0;
   std::string convergenceReference;
   std::string convergenceCsv;
+  std::string layers;
+  double exposure = 0.0;
   bool half = false;
   bool quiet = false;
 };
@@ -114,6 +122,25 @@ std::vector<SettingOverride> overrides(const RenderFlags& f) {
   return out;
 }
 
+// A setting's default as --help shows it: "0.1", "0.001".
+std::string shortNumber(float value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+// --layers: "all" is every layer the mode has; the variance is Monte Carlo's only (pcb's
+// error is mostly bias, which a sample variance does not show).
+LayerSet parseLayers(const std::string& list, Mode mode) {
+  if (list.empty()) return {};
+  const LayerSet layers = LayerSet::parse(list, mode == Mode::kMc, "--layers");
+  if (layers.has(Layer::kVariance) && mode != Mode::kMc)
+    throw InputError("--layers", "variance",
+                     "is a layer of mode mc only (a pcb image's error is mostly bias, which a "
+                     "sample variance does not measure)");
+  return layers;
+}
+
 // The profiling lines of the point-based modes: phase times, element counts, memory.
 void printPointCloudSummary(const Report& report) {
   auto count = [&](const char* key) { return report.count(key); };
@@ -172,6 +199,8 @@ void checkDistributable(const RenderFlags& flags, const Collective& team) {
 
 int runRender(const RenderFlags& flags, Collective& team) {
   const auto start = std::chrono::steady_clock::now();
+  // The progress line: on a terminal only, from the rank that prints the summary.
+  Progress::global().enable(!flags.quiet && team.isRoot() && isatty(STDERR_FILENO) != 0);
   if (flags.timeLimit != 0.0 && !(std::isfinite(flags.timeLimit) && flags.timeLimit > 0.0))
     throw InputError("--time-limit", "", "must be a finite number of seconds > 0");
   checkDistributable(flags, team);
@@ -189,11 +218,13 @@ int runRender(const RenderFlags& flags, Collective& team) {
   std::vector<std::string> inputs = scene.inputFiles;
   if (!flags.convergenceReference.empty()) inputs.push_back(flags.convergenceReference);
   RenderOutputs outputs(flags.output, flags.report, inputs);
+  outputs.setPreviewExposure(flags.exposure);
   RenderPlan plan;
   plan.spp = scene.render.spp;
   plan.firstSample = flags.firstSample;
   plan.timeLimitSeconds = flags.timeLimit;
   plan.team = &team;
+  plan.layers = parseLayers(flags.layers, scene.render.mode);
   Image reference;
   if (!flags.convergenceReference.empty()) {
     if (flags.convergenceCsv.empty())
@@ -227,7 +258,7 @@ int runRender(const RenderFlags& flags, Collective& team) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   collectRankTimes(team, report);
   if (!team.isRoot()) return 0;  // the root writes the one image and report
-  outputs.write(image, report, flags.half, [&](OutputSet& set) {
+  outputs.write(image, result.layers, report, flags.half, [&](OutputSet& set) {
     if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
   });
   if (!flags.quiet) {
@@ -254,21 +285,39 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
                   "Output EXR path (a PNG preview is written beside it)")
       ->required();
   cmd->add_option("--report", flags->report, "Write times, counts and memory as JSON");
-  // Flags that set scene fields are checked by the scene loader, exactly like the fields.
-  cmd->add_option(flags::kMode.flag, flags->mode, modeNames());
-  cmd->add_option(flags::kSpp.flag, flags->spp, "Samples per pixel");
-  cmd->add_option(flags::kMaxBounces.flag, flags->maxBounces, "Scattering events per path");
-  cmd->add_option(flags::kSeed.flag, flags->seed, "Random seed");
-  cmd->add_option(flags::kThreads.flag, flags->threads, "Worker threads (0: all cores)");
+  // Flags that set scene fields are checked by the scene loader, exactly like the fields;
+  // without them the scene's field holds, else the setting's default (shown).
+  const RenderSettings r;
+  const VolumeSettings v;
+  auto scene = [](const FlagField& f, const std::string& fallback) {
+    return std::string(" (default: the scene's ") + f.section + "." + f.key +
+           (fallback.empty() ? "" : ", else " + fallback) + ")";
+  };
+  cmd->add_option(flags::kMode.flag, flags->mode,
+                  "Mode: " + modeNames() + scene(flags::kMode, std::string(modeName(r.mode))));
+  cmd->add_option(flags::kSpp.flag, flags->spp,
+                  "Samples per pixel" + scene(flags::kSpp, std::to_string(r.spp)));
+  cmd->add_option(
+      flags::kMaxBounces.flag, flags->maxBounces,
+      "Scattering events per path" + scene(flags::kMaxBounces, std::to_string(r.maxBounces)));
+  cmd->add_option(flags::kSeed.flag, flags->seed,
+                  "Random seed" + scene(flags::kSeed, std::to_string(r.seed)));
+  cmd->add_option(flags::kThreads.flag, flags->threads,
+                  "Worker threads, 0: all cores" + scene(flags::kThreads, "0"));
   cmd->add_option(flags::kMaxMemory.flag, flags->maxMemory,
-                  "Memory budget, e.g. 4G or 512M (default: 80 % of this machine's memory); "
-                  "a render that would need more stops before allocating it");
-  cmd->add_option(flags::kWidth.flag, flags->width, "Image width");
-  cmd->add_option(flags::kHeight.flag, flags->height, "Image height");
+                  "Memory budget, e.g. 4G or 512M; a render that would need more stops before "
+                  "allocating it" +
+                      scene(flags::kMaxMemory, "80 % of this machine's memory"));
+  cmd->add_option(flags::kWidth.flag, flags->width, "Image width" + scene(flags::kWidth, ""));
+  cmd->add_option(flags::kHeight.flag, flags->height, "Image height" + scene(flags::kHeight, ""));
   cmd->add_option(flags::kSolver.flag, flags->solver,
-                  "Volume solver: auto or a method (docs/solvers.md)");
-  cmd->add_option(flags::kStep.flag, flags->step, "Volume step in scene units");
-  cmd->add_option(flags::kTolerance.flag, flags->tolerance, "Tolerance of adaptive volume solvers");
+                  "Volume solver: auto or one of " + rte::methodNames() + " (docs/solvers.md)" +
+                      scene(flags::kSolver, "auto"));
+  cmd->add_option(flags::kStep.flag, flags->step,
+                  "Volume step in scene units" + scene(flags::kStep, shortNumber(v.step)));
+  cmd->add_option(
+      flags::kTolerance.flag, flags->tolerance,
+      "Tolerance of adaptive volume solvers" + scene(flags::kTolerance, shortNumber(v.tolerance)));
   cmd->add_option("--first-sample", flags->firstSample,
                   "Index of the first sample: render chunk [first, first+spp) of a longer run");
   cmd->add_option("--time-limit", flags->timeLimit,
@@ -277,8 +326,15 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option("--convergence", flags->convergenceReference,
                   "Reference EXR: record the error after 1, 2, 4, ... spp");
   cmd->add_option("--convergence-csv", flags->convergenceCsv, "Where the convergence CSV goes");
+  cmd->add_option("--layers", flags->layers,
+                  "AOV layers to write in the EXR beside the beauty: all, or a list of " +
+                      namesOf(kLayerNames) + " (variance: mc only; docs/layers.md)");
+  cmd->add_option("--exposure", flags->exposure,
+                  "Exposure of the PNG preview in stops (x 2^E before the tone map; the EXR "
+                  "is never scaled)")
+      ->capture_default_str();
   cmd->add_flag("--half", flags->half, "Write a half-float EXR (values above 65504 are clamped)");
-  cmd->add_flag("-q,--quiet", flags->quiet, "No summary line");
+  cmd->add_flag("-q,--quiet", flags->quiet, "No progress line and no summary line");
   cmd->callback([flags, &exitCode, &team]() { exitCode = runRender(*flags, team); });
 }
 

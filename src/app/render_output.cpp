@@ -1,5 +1,6 @@
 #include "src/app/render_output.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -25,19 +26,26 @@ RenderOutputs::RenderOutputs(std::string exrPath, std::string reportPath,
   }
 }
 
-void RenderOutputs::write(const Image& image, Report& report, bool half,
+void RenderOutputs::setPreviewExposure(double stops) {
+  if (!(stops >= -20.0 && stops <= 20.0))
+    throw InputError("--exposure", "", "must be a number of stops in [-20, 20]");
+  previewScale_ = static_cast<float>(std::exp2(stops));
+}
+
+void RenderOutputs::write(const Image& image, const std::vector<ExtraChannel>& layers,
+                          Report& report, bool half,
                           const std::function<void(OutputSet&)>& extra) const {
   OutputSet set;
   ImageMetadata meta;
   for (const auto& [key, value] : report.settings) meta["lvox." + key] = value;
-  const ExrWriteStats stats = writeExr(exr_, image, half, meta, &set);
+  const ExrWriteStats stats = writeExr(exr_, image, half, meta, &set, layers);
   if (stats.sanitized)
     report.warnings.push_back(std::to_string(stats.sanitized) +
                               " NaN/Inf/negative values written as 0");
   if (stats.clamped)
     report.warnings.push_back(std::to_string(stats.clamped) +
                               " values above 65504 clamped in the half-float EXR");
-  writePng(png_, image, 1.0f, &set);
+  writePng(png_, image, previewScale_, &set);
   if (!report_.empty()) {
     const std::string text = report.toJson().dump(2) + "\n";
     set.stage(report_, [&](const std::string& tmp) {

@@ -29,6 +29,7 @@
 #include "src/core/image_io.h"
 #include "src/core/image_metrics.h"
 #include "src/core/names.h"
+#include "src/core/progress.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 #include "volume/rte/method.h"
@@ -330,6 +331,8 @@ SweepPlan parseFlags(const SweepFlags& f) {
 }
 
 int runSweep(const SweepFlags& f, Collective& team) {
+  // Each point's phases on the progress line: on a terminal only, from the root.
+  Progress::global().enable(!f.quiet && team.isRoot() && isatty(STDERR_FILENO) != 0);
   const SweepPlan sweep = parseFlags(f);
   Scene scene = loadScene(f.scene, sweep.overrides);
   if (scene.render.mode == Mode::kMc)

@@ -49,42 +49,60 @@ void verifyExr(const std::string& tmp, int width, int height) {
 
 }  // namespace
 
+namespace {
+
+// A channel's values as written: non-finite (and, for colour, negative) values become 0,
+// values beyond the half-float range are clamped when writing half.
+std::vector<float> sanitizedChannel(std::vector<float> values, bool allowNegative, bool half,
+                                    ExrWriteStats& stats) {
+  for (float& v : values) {
+    if (!std::isfinite(v) || (!allowNegative && v < 0.0f)) {
+      v = 0.0f;
+      ++stats.sanitized;
+    }
+    if (half && std::abs(v) > kHalfMax) {
+      v = std::copysign(kHalfMax, v);
+      ++stats.clamped;
+    }
+  }
+  return values;
+}
+
+}  // namespace
+
 ExrWriteStats writeExr(const std::string& path, const Image& image, bool half,
-                       const ImageMetadata& metadata, OutputSet* set) {
+                       const ImageMetadata& metadata, OutputSet* set,
+                       const std::vector<ExtraChannel>& extra) {
   checkSize(path, image);
   ExrWriteStats stats;
   const size_t n = image.pixels.size();
-  std::vector<float> channels[3];
-  for (auto& c : channels) c.resize(n);
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      float v = image.pixels[i][c];
-      if (!std::isfinite(v) || v < 0.0f) {
-        v = 0.0f;
-        ++stats.sanitized;
-      }
-      if (half && v > kHalfMax) {
-        v = kHalfMax;
-        ++stats.clamped;
-      }
-      channels[c][i] = v;
-    }
-  std::vector<Imath::half> halves[3];
+  std::vector<std::string> names = {"R", "G", "B"};
+  std::vector<std::vector<float>> channels;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float> plane(n);
+    for (size_t i = 0; i < n; ++i) plane[i] = image.pixels[i][c];
+    channels.push_back(sanitizedChannel(std::move(plane), false, half, stats));
+  }
+  for (const ExtraChannel& e : extra) {
+    if (e.values.size() != n) throw InputError(path, e.name, "channel has the wrong size");
+    names.push_back(e.name);
+    channels.push_back(sanitizedChannel(e.values, true, half, stats));
+  }
+  std::vector<std::vector<Imath::half>> halves;
   if (half)
-    for (int c = 0; c < 3; ++c) halves[c].assign(channels[c].begin(), channels[c].end());
+    for (const std::vector<float>& c : channels) halves.emplace_back(c.begin(), c.end());
 
   auto write = [&](const std::string& tmp) {
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     for (const auto& [key, value] : metadata) header.insert(key, Imf::StringAttribute(value));
     const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
-    const char* names[3] = {"R", "G", "B"};
+    const size_t size = half ? sizeof(Imath::half) : sizeof(float);
     Imf::FrameBuffer fb;
-    for (int c = 0; c < 3; ++c) {
+    for (size_t c = 0; c < names.size(); ++c) {
       header.channels().insert(names[c], Imf::Channel(type));
       char* base = half ? reinterpret_cast<char*>(halves[c].data())
                         : reinterpret_cast<char*>(channels[c].data());
-      const size_t size = half ? sizeof(Imath::half) : sizeof(float);
       fb.insert(names[c], Imf::Slice(type, base, size, size * static_cast<size_t>(image.width)));
     }
     // The OutputFile is destroyed (and so finished) before the file is verified and renamed.

@@ -18,11 +18,21 @@ struct ExrWriteStats {
   uint64_t clamped = 0;    // values above the half-float maximum (half output only)
 };
 
+// One more channel of an EXR beside R, G, B: an AOV layer's ("direct.R", "depth.Z"), one
+// value per pixel, top row first.
+struct ExtraChannel {
+  std::string name;
+  std::vector<float> values;
+};
+
 // Linear RGB OpenEXR, ZIP-compressed (lossless). Float32 by default; `half` clamps values
 // above 65504. Metadata become string attributes of the header (e.g. "lvox.spp").
 // With `set`, the file is staged in it (published by its commit) instead of at once.
+// `extra` channels are written in the same type; they may be negative (a normal), and
+// NaN or infinite values among them are written as 0 and counted as sanitized.
 ExrWriteStats writeExr(const std::string& path, const Image& image, bool half = false,
-                       const ImageMetadata& metadata = {}, OutputSet* set = nullptr);
+                       const ImageMetadata& metadata = {}, OutputSet* set = nullptr,
+                       const std::vector<ExtraChannel>& extra = {});
 
 // Reads R, G, B (or Y as grey) of an OpenEXR file; throws InputError on a missing,
 // corrupt or incomplete file. String attributes are returned in `metadata`.

@@ -1,5 +1,6 @@
 #include "src/render/direct_integrator.h"
 
+#include "src/render/camera_layers.h"
 #include "src/render/surface_albedo.h"
 #include "src/render/surface_direct.h"
 
@@ -16,13 +17,13 @@ void addSolveCounts(SamplerCounters& counters, const rte::SolveCounts& c) {
 
 PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volume,
                            SamplerCounters& counters) {
-  return [&ctx, &volume, &counters](int x, int y, Rng& rng) {
+  return [&ctx, &volume, &counters](int x, int y, Rng& rng, SampleLayers* layers) {
     const World& world = ctx.world;
     const Ray ray = world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
                                              static_cast<float>(y) + rng.uniform());
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
-    RGB behind = ctx.lights.environment(ray.dir);
+    RGB environment(0.0f), emission(0.0f), direct(0.0f);
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
@@ -30,11 +31,18 @@ PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volu
       auto throughMedia = [&](const Ray& shadow) {
         return volume.transmittance(shadow, solveCounts);
       };
-      behind = m.emission + surfaceDirect(ctx, hit, cameraHitAlbedo(ctx, m, ray, hit), rng,
-                                          throughMedia, shadowRays);
+      const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
+      emission = m.emission;
+      direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays);
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
+      if (layers) fillSurfaceLayers(*layers, hit, albedo);
+    } else {
+      environment = ctx.lights.environment(ray.dir);
     }
-    const RGB l = volume.radiance(ray, hitSurface ? hit.t : kInf, behind, rng, solveCounts);
+    CameraRayParts parts;
+    const RGB l = volume.radiance(ray, hitSurface ? hit.t : kInf, emission + direct + environment,
+                                  rng, solveCounts, layers ? &parts : nullptr);
+    if (layers) fillRadianceLayers(*layers, parts, emission, direct, RGB(0.0f), environment);
     addSolveCounts(counters, solveCounts);
     return l;
   };

@@ -177,33 +177,47 @@ Collision deltaTrack(const MajorantTracker& tracker, const Ray& ray, float tEnd,
   return c;
 }
 
+// A path's radiance split by its first vertex (layers.h): what the first surface reflects
+// of the lights' direct light, what it reflects after more scattering, what the media on
+// the camera ray scatter towards it, what is seen emitting, and the environment seen.
+struct PathParts {
+  RGB direct{0.0f}, indirect{0.0f}, volume{0.0f}, emission{0.0f}, environment{0.0f};
+  RGB sum() const { return direct + indirect + volume + emission + environment; }
+};
+
 // Emitters hit by continuation rays count with the MIS weight that complements
 // surfaceNee; escaping continuation rays add an environment map's radiance the same way
 // (a constant environment is NEE only).
-RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
-              PathCounters& counters) {
+void tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray, Rng& rng,
+               PathCounters& counters, PathParts& parts, SampleLayers* layers) {
   const World& world = ctx.world;
   const int maxEvents = ctx.settings.maxBounces;
-  RGB radiance(0.0f), throughput(1.0f);
+  RGB throughput(1.0f);
+  // Where light goes once the first vertex is known: indirect after a surface, volume
+  // after a scattering in a medium.
+  RGB* later = nullptr;
   float bsdfPdf = 0.0f;  // solid-angle pdf of the surface continuation being traced (0: none)
   const bool media = !tracker.media().empty();
   ++counters.paths;
   for (int event = 1;; ++event) {
+    const bool first = event == 1;
     SurfaceHit hit;
     ++counters.rays;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
     if (media) {
       if (event <= maxEvents)
-        radiance += throughput * equiangularInScatter(ctx, tracker, ray, hitSurface ? hit.t : kInf,
-                                                      rng, counters);
-      const Collision c =
-          deltaTrack(tracker, ray, hitSurface ? hit.t : kInf, rng, throughput, radiance, counters);
+        (first ? parts.volume : *later) +=
+            throughput *
+            equiangularInScatter(ctx, tracker, ray, hitSurface ? hit.t : kInf, rng, counters);
+      const Collision c = deltaTrack(tracker, ray, hitSurface ? hit.t : kInf, rng, throughput,
+                                     first ? parts.emission : *later, counters);
       if (c.absorbed) break;
       if (c.scattered) {
         if (event > maxEvents) break;
+        if (first) later = &parts.volume;
         const Vec3 x = ray.at(c.t);
         const PhaseFunction& phase = tracker.media()[c.medium].phase;
-        radiance += throughput * mediumNee(ctx, tracker, x, ray.dir, phase, rng, counters);
+        *later += throughput * mediumNee(ctx, tracker, x, ray.dir, phase, rng, counters);
         if (event >= 3) {
           const float survive = std::min(1.0f, maxComponent(throughput));
           if (rng.uniform() >= survive) break;
@@ -218,23 +232,30 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
     }
     if (!hitSurface) {
       const EnvironmentMap* map = ctx.lights.environmentMap();
-      if (event == 1)
-        radiance += throughput * ctx.lights.environment(ray.dir);
+      if (first)
+        parts.environment += throughput * ctx.lights.environment(ray.dir);
       else if (map && bsdfPdf > 0.0f)  // the MIS complement of the map's NEE samples
-        radiance +=
-            throughput * map->radiance(ray.dir) * powerHeuristic(bsdfPdf, map->pdf(ray.dir));
+        *later += throughput * map->radiance(ray.dir) * powerHeuristic(bsdfPdf, map->pdf(ray.dir));
       break;
     }
     const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
-    if (event == 1) {
-      radiance += throughput * m.emission;
+    if (first) {
+      parts.emission += throughput * m.emission;
+      later = &parts.indirect;
     } else if (m.isEmissive() && bsdfPdf > 0.0f) {
       const float lightPdf = ctx.lights.areaPdf(hit.t, std::abs(dot(hit.normal, ray.dir)));
-      radiance += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
+      *later += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
+    }
+    if (first && layers) {
+      layers->hit = true;
+      layers->depth = hit.t;
+      layers->normal = hit.shading;
+      layers->albedo = cameraHitAlbedo(ctx, m, ray, hit);
     }
     if (event > maxEvents) break;
-    const RGB albedo = event == 1 ? cameraHitAlbedo(ctx, m, ray, hit) : hitAlbedo(ctx, m, hit);
-    radiance += throughput * surfaceNee(ctx, tracker, hit, albedo, rng, counters);
+    const RGB albedo = first ? cameraHitAlbedo(ctx, m, ray, hit) : hitAlbedo(ctx, m, hit);
+    (first ? parts.direct : *later) +=
+        throughput * surfaceNee(ctx, tracker, hit, albedo, rng, counters);
     // After the last allowed event the continuation ray is still traced: it can only add
     // emission (the MIS complement of this vertex's NEE), never another scattering.
     // Cosine-weighted continuation: f cos / pdf = albedo.
@@ -253,18 +274,26 @@ RGB tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray,
     if (dot(next, hit.normal) <= 0.0f) break;
     ray = ctx.spawn(hit.point, hit.normal, next);
   }
-  return radiance;
 }
 
 }  // namespace
 
 PixelSampler monteCarloSampler(const RenderContext& neeCtx, const MajorantTracker& tracker,
                                SamplerCounters& counters) {
-  return [&neeCtx, &tracker, &counters](int x, int y, Rng& rng) {
+  return [&neeCtx, &tracker, &counters](int x, int y, Rng& rng, SampleLayers* layers) {
     PathCounters local;
     const Ray ray = neeCtx.world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
                                                     static_cast<float>(y) + rng.uniform());
-    const RGB l = tracePath(neeCtx, tracker, ray, rng, local);
+    PathParts parts;
+    tracePath(neeCtx, tracker, ray, rng, local, parts, layers);
+    if (layers) {
+      layers->direct = parts.direct;
+      layers->indirect = parts.indirect;
+      layers->volume = parts.volume;
+      layers->emission = parts.emission;
+      layers->environment = parts.environment;
+    }
+    const RGB l = parts.sum();
     counters.pathRays.fetch_add(local.rays, std::memory_order_relaxed);
     counters.paths.fetch_add(local.paths, std::memory_order_relaxed);
     counters.mediumEvals.fetch_add(local.lookups, std::memory_order_relaxed);

@@ -11,6 +11,7 @@
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
 #include "src/core/error.h"
+#include "src/render/camera_layers.h"
 #include "src/render/cloud_exchange.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/pcb_media.h"
@@ -324,7 +325,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
   const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
   const GatherOptions options =
       gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
-  return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng) {
+  return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng, SampleLayers* layers) {
     const World& world = ctx.world;
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
@@ -332,7 +333,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
-    RGB behind = ctx.lights.environment(ray.dir);
+    RGB environment(0.0f), emission(0.0f), direct(0.0f), indirect(0.0f);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;
@@ -342,7 +343,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       // The cloud carries irradiance; the texture multiplies it here, at the pixel's own
       // footprint, so texture detail is never blurred to the surfel spacing.
       const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
-      const RGB direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays);
+      direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays);
       RGB irradiance;
       if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
         thread_local TraversalScratch scratch;
@@ -351,16 +352,24 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                                       std::memory_order_relaxed);
       }
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-      behind = m.emission + direct + albedo * irradiance * kInvPi;
+      emission = m.emission;
+      indirect = albedo * irradiance * kInvPi;
+      if (layers) fillSurfaceLayers(*layers, hit, albedo);
+    } else {
+      environment = ctx.lights.environment(ray.dir);
     }
+    const RGB behind = emission + direct + indirect + environment;
     const float tEnd = hitSurface ? hit.t : kInf;
+    CameraRayParts parts;
+    CameraRayParts* const partsOut = layers ? &parts : nullptr;
     RGB l;
     if (cache.lvoxels) {
       const PointCloudScatter scatter{cache.cloud->lvoxels().light, ctx.lights, volume.media()};
-      l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts);
+      l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts, partsOut);
     } else {
-      l = volume.radiance(ray, tEnd, behind, rng, solveCounts);
+      l = volume.radiance(ray, tEnd, behind, rng, solveCounts, partsOut);
     }
+    if (layers) fillRadianceLayers(*layers, parts, emission, direct, indirect, environment);
     addSolveCounts(counters, solveCounts);
     return l;
   };

@@ -9,6 +9,7 @@
 
 #include "pointcloud/lvoxel_sampler.h"
 #include "src/core/error.h"
+#include "src/core/progress.h"
 #include "src/render/cloud_exchange.h"
 
 namespace lvox {
@@ -102,8 +103,10 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   const auto rank = static_cast<size_t>(team.rank());
   auto mine = [&](size_t slot) { return (slot / kLvoxelDirectBlock) % ranks == rank; };
   tbb::combinable<rte::SolveCounts> perThread;
+  Progress::global().addWork(light.occupiedCount());
   // Cells not this rank's keep the zeros setChannels and occupy gave them.
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t slot) {
+    Progress::global().advance(1);
     if (!mine(slot)) return;
     rte::SolveCounts& local = perThread.local();
     const Vec3 x = light.centre(static_cast<uint32_t>(slot));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "src/core/progress.h"
+
 namespace lvox {
 namespace {
 
@@ -25,7 +27,9 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
                                const RenderPlan& plan, TileStats& stats) {
   using Clock = std::chrono::steady_clock;
   RenderResult result;
-  Image sum(width, height);
+  Film film(width, height, plan.layers);
+  Progress::global().addWork(static_cast<uint64_t>(width) * height *
+                             static_cast<uint64_t>(plan.spp));
   const bool progressive = plan.timeLimitSeconds > 0.0 || plan.reference != nullptr;
   const auto start = Clock::now();
   double secondsPerSample = 0.0;
@@ -49,7 +53,7 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
       pass = std::min(pass, affordable);
     }
     const auto passStart = Clock::now();
-    accumulateTiles(sum, plan.firstSample + static_cast<uint64_t>(result.sppDone), pass, seed,
+    accumulateTiles(film, plan.firstSample + static_cast<uint64_t>(result.sppDone), pass, seed,
                     sample, stats);
     const double passSeconds = std::chrono::duration<double>(Clock::now() - passStart).count();
     secondsPerSample = passSeconds / pass;
@@ -59,11 +63,12 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
       point.spp = result.sppDone;
       point.seconds = std::chrono::duration<double>(Clock::now() - start).count();
       point.error =
-          compareImages(mean(sum, result.sppDone), *plan.reference, "render", "reference");
+          compareImages(mean(film.beauty, result.sppDone), *plan.reference, "render", "reference");
       result.convergence.push_back(point);
     }
   }
-  result.image = result.sppDone > 0 ? mean(sum, result.sppDone) : sum;
+  result.image = result.sppDone > 0 ? mean(film.beauty, result.sppDone) : film.beauty;
+  if (result.sppDone > 0) result.layers = film.layerChannels(result.sppDone);
   return result;
 }
 

@@ -24,6 +24,8 @@ struct RenderPlan {
   const std::atomic<bool>* stop = nullptr;
   // The processes the render is split over (distributed_render.h); null: this one alone.
   Collective* team = nullptr;
+  // The AOV layers to write beside the beauty (layers.h); none by default.
+  LayerSet layers;
 };
 
 struct ConvergencePoint {
@@ -33,7 +35,8 @@ struct ConvergencePoint {
 };
 
 struct RenderResult {
-  Image image;  // mean of the samples rendered
+  Image image;                       // mean of the samples rendered
+  std::vector<ExtraChannel> layers;  // the means of the plan's layers, as EXR channels
   int sppDone = 0;
   bool stopped = false;  // plan.stop was set before every sample was done
   std::vector<ConvergencePoint> convergence;

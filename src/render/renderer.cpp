@@ -63,8 +63,11 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   MemoryBudget budget(settings.maxMemory);
   // The accumulation buffers and the output image (the progressive renderer's sums,
   // variance and counts): about 64 bytes per pixel.
-  budget.reserve(static_cast<uint64_t>(world.camera.width) * world.camera.height * 64,
-                 job.sceneFile, "camera.width", "the image");
+  const uint64_t pixels = static_cast<uint64_t>(world.camera.width) * world.camera.height;
+  budget.reserve(pixels * 64, job.sceneFile, "camera.width", "the image");
+  if (!plan.layers.empty())
+    budget.reserve(pixels * Film::layerBytesPerPixel(plan.layers), job.sceneFile, "--layers",
+                   "the layers' sums");
   const RenderContext ctx{world, settings, *tracer, lights, &budget};
   MediaSet media;
   {
@@ -127,6 +130,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   report.settings["first_sample"] = std::to_string(plan.firstSample);
   report.settings["seed"] = std::to_string(settings.seed);
   if (team.distributed()) report.settings["ranks"] = std::to_string(team.size());
+  if (!plan.layers.empty()) report.settings["layers"] = plan.layers.toString();
   // Every setting that changes the image, by its scene field (lvox merge compares them).
   for (const SettingList& list :
        {describe(job.render), describe(job.volume), describe(job.pointcloud)})

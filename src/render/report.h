@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "src/core/progress.h"
+
 namespace lvox {
 
 struct Report {
@@ -51,8 +53,11 @@ class PhaseTimer {
       : report_(report),
         phase_(std::move(phase)),
         start_(std::chrono::steady_clock::now()),
-        cpuStart_(processCpuSeconds()) {}
+        cpuStart_(processCpuSeconds()) {
+    Progress::global().beginPhase(phase_);
+  }
   ~PhaseTimer() {
+    Progress::global().endPhase();
     report_.times[phase_] +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     report_.cpuTimes[phase_] += processCpuSeconds() - cpuStart_;

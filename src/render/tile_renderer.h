@@ -4,12 +4,13 @@
 // the order in which tiles run, and samples [a, b) rendered in one run are exactly those
 // of a longer run: progressive passes and chunked references add up to the same image.
 // Non-finite or negative samples are zeroed and counted: they never reach the image.
-#include <atomic>
 #include <cstdint>
 #include <functional>
 
 #include "src/core/image.h"
 #include "src/core/rng.h"
+#include "src/render/film.h"
+#include "src/render/layers.h"
 
 namespace lvox {
 
@@ -18,22 +19,9 @@ struct TileStats {
   uint64_t invalidSamples = 0;
 };
 
-class Progress {
- public:
-  Progress(const char* label, uint64_t total);
-  void advance(uint64_t n);
-  void finish();
-
- private:
-  const char* label_;
-  uint64_t total_;
-  std::atomic<uint64_t> done_{0};
-  std::atomic<int> shownPercent_{-1};
-  bool enabled_;
-};
-
-// `sample(x, y, rng)` returns one radiance sample of pixel (x, y).
-using PixelSampler = std::function<RGB(int x, int y, Rng& rng)>;
+// `sample(x, y, rng, layers)` returns one radiance sample of pixel (x, y); when `layers` is
+// not null (layers were asked for) it also fills them (layers.h).
+using PixelSampler = std::function<RGB(int x, int y, Rng& rng, SampleLayers* layers)>;
 
 // The random stream of one sample.
 inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleIndex) {
@@ -41,16 +29,12 @@ inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleInde
   return Rng(seed, (pixel << 32) ^ sampleIndex);
 }
 
-// Adds samples [firstSample, firstSample + count) of every pixel to `sum` (unnormalised).
-void accumulateTiles(Image& sum, uint64_t firstSample, int count, uint64_t seed,
-                     const PixelSampler& sample, TileStats& stats, const char* label = "render");
+// Adds samples [firstSample, firstSample + count) of every pixel to the film (unnormalised),
+// with their layers when the film has any.
+void accumulateTiles(Film& film, uint64_t firstSample, int count, uint64_t seed,
+                     const PixelSampler& sample, TileStats& stats);
 // The same for the pixels of rows [rowBegin, rowEnd) only.
-void accumulateRows(Image& sum, int rowBegin, int rowEnd, uint64_t firstSample, int count,
-                    uint64_t seed, const PixelSampler& sample, TileStats& stats,
-                    const char* label = "render");
-
-// The mean of samples [0, spp) of every pixel.
-Image renderTiles(int width, int height, int spp, uint64_t seed, const PixelSampler& sample,
-                  TileStats& stats, const char* label = "render");
+void accumulateRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample, int count,
+                    uint64_t seed, const PixelSampler& sample, TileStats& stats);
 
 }  // namespace lvox

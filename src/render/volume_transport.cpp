@@ -163,14 +163,14 @@ struct ExactSingleScatter {
 }  // namespace
 
 RGB VolumeTransport::radiance(const Ray& ray, float tEnd, const RGB& background, Rng& rng,
-                              rte::SolveCounts& counts) const {
+                              rte::SolveCounts& counts, CameraRayParts* parts) const {
   if (media_.empty()) return background;
   const Rng lightRng = rng;  // the light samples of this camera ray
   rng.next();
   const float jitter = rng.uniform();
   rte::SolveCounts shadowCounts;
   const ExactSingleScatter scatter{*this, lightRng, shadowCounts};
-  const RGB l = radianceWith(ray, tEnd, background, jitter, scatter, counts);
+  const RGB l = radianceWith(ray, tEnd, background, jitter, scatter, counts, parts);
   counts.mediumEvals += shadowCounts.mediumEvals;
   counts.stabilityEvents += shadowCounts.stabilityEvents;
   return l;

@@ -3,6 +3,7 @@
 // and, along camera rays, the RTE with emission and single scattering solved by the
 // selected method (volume/rte). Only the intervals where a medium may be non-zero are
 // integrated (empty space is skipped by the media's own structure).
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -18,6 +19,19 @@
 
 namespace lvox {
 
+// What a camera ray's media add, for the AOV layers (layers.h): the radiance is
+// inScatter + emission + transmittance x background. `emission` is the media's own
+// emission along the ray, solved again without the scatter source (only when a medium
+// emits); `inScatter` is the rest of the media's radiance, so the parts add up exactly.
+struct CameraRayParts {
+  RGB inScatter{0.0f}, emission{0.0f}, transmittance{1.0f};
+};
+
+// The in-scatter source of a solve that wants the media's emission alone.
+struct NoScatter {
+  RGB operator()(const Vec3&, const Vec3&, const MediumCoefficients*) const { return RGB(0.0f); }
+};
+
 class VolumeTransport {
  public:
   VolumeTransport(const RenderContext& ctx, const MediaSet& media, const VolumeSettings& settings);
@@ -31,14 +45,16 @@ class VolumeTransport {
 
   // Radiance reaching ray.origin along [0, tEnd] when `background` arrives from tEnd,
   // with emission and exact single scattering (shadow rays at every medium evaluation).
+  // With `parts`, also what each part contributes (CameraRayParts).
   RGB radiance(const Ray& ray, float tEnd, const RGB& background, Rng& rng,
-               rte::SolveCounts& counts) const;
+               rte::SolveCounts& counts, CameraRayParts* parts = nullptr) const;
 
   // The same with another in-scatter source: `scatter(x, viewDir, perMedium)` returns
   // the scattered radiance source sum_m sigma_s,m * (phase-weighted incident light) at x.
   template <class ScatterSource>
   RGB radianceWith(const Ray& ray, float tEnd, const RGB& background, float jitter,
-                   const ScatterSource& scatter, rte::SolveCounts& counts) const;
+                   const ScatterSource& scatter, rte::SolveCounts& counts,
+                   CameraRayParts* parts = nullptr) const;
 
   // In-scattered radiance from the lights at x towards -viewDir, per unit sigma_s of each
   // medium: sum_m sigma_s,m * sum_l p_m(cos) L_l V T. `lightRng` fixes the light samples.
@@ -98,22 +114,39 @@ struct CameraRayProblem {
 
 template <class ScatterSource>
 RGB VolumeTransport::radianceWith(const Ray& ray, float tEnd, const RGB& background, float jitter,
-                                  const ScatterSource& scatter, rte::SolveCounts& counts) const {
+                                  const ScatterSource& scatter, rte::SolveCounts& counts,
+                                  CameraRayParts* parts) const {
   if (media_.empty()) return background;
   thread_local std::vector<std::pair<float, float>> spans;
   spans.clear();
   media_.intervals(ray, 0.0f, std::isinf(tEnd) ? 1e30f : tEnd, spans);
   if (spans.empty()) return background;
-  RGB radiance(0.0f), throughput(1.0f);
+  RGB radiance(0.0f), throughput(1.0f), emission(0.0f);
   const CameraRayProblem<ScatterSource> problem{media_, ray, scatter};
+  const bool splitEmission = parts && media_.anyEmissive();
+  const CameraRayProblem<NoScatter> emissionProblem{media_, ray, NoScatter{}};
   for (const auto& [a, b] : spans) {
     const SegmentPlan plan = radiancePlan(ray, a, b, jitter);
-    const rte::SolveResult<float> r = rte::solve(plan.method, problem, a, std::min(b, plan.end),
-                                                 rte::Channels<float>(0.0f), plan.settings);
+    const float end = std::min(b, plan.end);
+    const rte::SolveResult<float> r =
+        rte::solve(plan.method, problem, a, end, rte::Channels<float>(0.0f), plan.settings);
     counts += r.counts;
+    if (splitEmission) {
+      const rte::SolveResult<float> e = rte::solve(plan.method, emissionProblem, a, end,
+                                                   rte::Channels<float>(0.0f), plan.settings);
+      counts += e.counts;
+      emission += throughput * toRgb(e.radiance);
+    }
     radiance += throughput * toRgb(r.radiance);
     throughput *= toRgb(r.transmittance);
     if (maxComponent(throughput) < 1e-6f) break;
+  }
+  if (parts) {
+    // Emission alone cannot exceed the whole (the solves differ by their tolerance only).
+    for (int c = 0; c < 3; ++c) emission[c] = std::clamp(emission[c], 0.0f, radiance[c]);
+    parts->emission = emission;
+    parts->inScatter = radiance - emission;
+    parts->transmittance = throughput;
   }
   return radiance + throughput * background;
 }

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "app/mpi_run.h"
+#include "src/core/exr_channels.h"
 #include "src/core/image_io.h"
 #include "test_util.h"
 
@@ -140,6 +141,25 @@ TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   const nlohmann::json report = readJson(path("ranks.json"));
   EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 40u * 36u * 2u);
   EXPECT_GT(report["counts"]["lvoxels"].get<uint64_t>(), 0u);
+}
+
+// The layers are summed over the ranks with the image: each layer of a split render is the
+// one-process layer (mc: up to the order of the additions; pcb: bit for bit).
+TEST_F(MpiCli, LayersEqualOneProcessRender) {
+  for (const char* mode : {"mc", "pcb"}) {
+    const std::string layers = std::string(mode) == "mc" ? "all" : "direct,indirect,volume,depth";
+    renderBoth(std::string("--mode ") + mode + " --spp 2 --threads 1 --layers " + layers);
+    const ExrChannels alone = readExrChannels(path("alone.exr"));
+    const ExrChannels ranks = readExrChannels(path("ranks.exr"));
+    ASSERT_EQ(alone.names, ranks.names) << mode;
+    ASSERT_GT(alone.names.size(), 3u) << mode;
+    const float tol = std::string(mode) == "mc" ? 1e-5f : 0.0f;
+    for (size_t c = 0; c < alone.names.size(); ++c)
+      for (size_t i = 0; i < alone.planes[c].size(); ++i)
+        ASSERT_NEAR(ranks.planes[c][i], alone.planes[c][i],
+                    tol * (std::abs(alone.planes[c][i]) + 1e-3f))
+            << mode << " " << alone.names[c] << " " << i;
+  }
 }
 
 TEST_F(MpiCli, PcbSurfelsAndDirectEqualOneProcessRender) {

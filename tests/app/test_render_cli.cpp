@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -127,10 +128,10 @@ TEST(RenderCli, MemoryBudgetStopsARenderBeforeItAllocates) {
   // The default scene's cloud fits in the same budget and renders.
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", pcbScene("{\"target_surfels\": 20000}"));
-  const RunResult r = runLvox("render " + (dir / "scene.json").string() + " -o " +
-                                  (dir / "out.exr").string() + " --max-memory 256M" +
-                                  " --report " + (dir / "r.json").string(),
-                              dir);
+  const RunResult r =
+      runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string() +
+                  " --max-memory 256M" + " --report " + (dir / "r.json").string(),
+              dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   std::ifstream in(dir / "r.json");
   const nlohmann::json report = nlohmann::json::parse(in);
@@ -349,6 +350,33 @@ TEST(RenderCli, MergeRefusesChunksWhoseSettingsOrSceneDiffer) {
     EXPECT_NE(r.err.find(chunk + ": " + key + ": differs"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "merged.exr"));
   }
+}
+
+// --exposure scales the PNG preview by 2^E before its tone map, and never the EXR.
+TEST(RenderCli, ExposureScalesThePreviewNotTheExr) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const std::string scene = (dir / "scene.json").string();
+  ASSERT_EQ(runLvox("render " + scene + " -o " + (dir / "a.exr").string(), dir).exitCode, 0);
+  ASSERT_EQ(
+      runLvox("render " + scene + " --exposure 1.5 -o " + (dir / "b.exr").string(), dir).exitCode,
+      0);
+  const Image a = readExr((dir / "a.exr").string());
+  EXPECT_EQ(a.pixels, readExr((dir / "b.exr").string()).pixels);
+  const Image png = readAnyImage((dir / "b.exr").replace_extension(".png").string());
+  const float scale = std::exp2(1.5f);
+  int checked = 0;
+  for (size_t i = 0; i < a.pixels.size(); i += 37)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(png.pixels[i][c] * 255.0f, toneMap(a.pixels[i][c], scale), 0.51f) << i;
+      ++checked;
+    }
+  EXPECT_GT(checked, 100);
+  const RunResult bad =
+      runLvox("render " + scene + " --exposure 40 -o " + (dir / "c.exr").string(), dir);
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.err.find("--exposure"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "c.exr"));
 }
 
 TEST(RenderCli, VersionNamesTheRevision) {

@@ -28,6 +28,11 @@ class MediaSet {
   // Sum of sigma_t of the heterogeneous media at p (homogeneous ones are done analytically).
   RGB heterogeneousSigmaT(const Vec3& p) const;
   bool anyHeterogeneous() const { return !allHomogeneous(); }
+  bool anyEmissive() const {
+    for (const Medium& m : media_)
+      if (m.emits()) return true;
+    return false;
+  }
   // Optical depth of the homogeneous media along [tmin, tmax] of the ray (exact).
   RGB homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax) const;
   // Sorted, merged t-intervals in [tmin, tmax] where a heterogeneous medium may be non-zero.

@@ -53,6 +53,8 @@ struct Medium {
   Interpolation interpolation = Interpolation::Trilinear;
 
   bool homogeneous() const { return type == MediumType::Homogeneous; }
+  // Whether the medium may have a non-zero emission source anywhere.
+  bool emits() const { return !isBlack(emission) || temperatureGrid != nullptr; }
   float densityAt(const Vec3& p) const;
   MediumCoefficients at(const Vec3& p) const;
   // An upper bound of sigma_t anywhere (per channel).

@@ -84,15 +84,24 @@ bool isQuadrature(Method m) {
          m == Method::kGaussKronrod || m == Method::kMonteCarlo;
 }
 
+std::string methodNames() {
+  std::string names;
+  for (const MethodInfo& i : kInfo) {
+    if (!names.empty()) names += ", ";
+    names += i.name;
+  }
+  return names;
+}
+
 Method parseMethod(std::string_view name, const std::string& file, const std::string& field,
                    std::string_view alsoValid) {
-  std::string valid(alsoValid);
-  for (const MethodInfo& i : kInfo) {
+  for (const MethodInfo& i : kInfo)
     if (i.name == name) return i.method;
-    valid += (valid.empty() ? "" : ", ") + std::string(i.name);
-  }
-  throw InputError(file, field,
-                   "unknown solver '" + std::string(name) + "' (valid: " + valid + ")");
+  std::string valid(alsoValid);
+  if (!valid.empty()) valid += ", ";
+  throw InputError(
+      file, field,
+      "unknown solver '" + std::string(name) + "' (valid: " + valid + methodNames() + ")");
 }
 
 Sampling parseSampling(std::string_view name, const std::string& file, const std::string& field) {

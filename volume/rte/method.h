@@ -43,6 +43,9 @@ enum class Sampling { kNone, kDistance, kEquiangular };
 std::string_view methodName(Method m);
 std::string_view samplingName(Sampling s);
 
+// "euler, rk2, ...": every method's name, for messages and --help.
+std::string methodNames();
+
 // name -> method; throws lvox::InputError(file, field, ...) listing the valid names,
 // `alsoValid` first (a name the caller handles itself, such as "auto").
 Method parseMethod(std::string_view name, const std::string& file = "volume_integrator",
