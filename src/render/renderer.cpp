@@ -106,6 +106,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     case Mode::kPcb:
     case Mode::kPcbSurfels:
       pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
+      if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud);
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
       break;
     case Mode::kDirect:
