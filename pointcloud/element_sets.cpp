@@ -34,8 +34,11 @@ void SurfelSet::permute(const std::vector<uint32_t>& order) {
 RGB LvoxelSet::sourceRadiance(size_t i) const {
   const RGB st = sigmaT(i);
   const RGB ls = inScatter(i);
-  return {ratio(sigmaS[i].x, st.x) * ls.x, ratio(sigmaS[i].y, st.y) * ls.y,
-          ratio(sigmaS[i].z, st.z) * ls.z};
+  const RGB scattered(ratio(sigmaS[i].x, st.x) * ls.x, ratio(sigmaS[i].y, st.y) * ls.y,
+                      ratio(sigmaS[i].z, st.z) * ls.z);
+  if (emission.empty()) return scattered;
+  const RGB& e = emission[i];
+  return scattered + RGB(ratio(e.x, st.x), ratio(e.y, st.y), ratio(e.z, st.z));
 }
 
 void LvoxelSet::resize(size_t n) {
@@ -43,6 +46,7 @@ void LvoxelSet::resize(size_t n) {
   halfSize.resize(n);
   sigmaA.resize(n);
   sigmaS.resize(n);
+  if (!emission.empty()) emission.resize(n, RGB(0.0f));
   light =
       LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
   slot.resize(n);
@@ -62,6 +66,14 @@ void LvoxelSet::append(const LvoxelSet& other) {
   cat(halfSize, other.halfSize);
   cat(sigmaA, other.sigmaA);
   cat(sigmaS, other.sigmaS);
+  // Emission: kept per lvoxel as soon as one set has it (zeros for the other's).
+  if (!other.emission.empty() || !emission.empty()) {
+    emission.resize(size() - other.size(), RGB(0.0f));
+    if (other.emission.empty())
+      emission.resize(size(), RGB(0.0f));
+    else
+      cat(emission, other.emission);
+  }
   for (uint32_t s : other.slot) slot.push_back(light.occupy(other.light.cellOfSlot(s)));
 }
 
@@ -70,6 +82,7 @@ void LvoxelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(halfSize, order);
   permuteArray(sigmaA, order);
   permuteArray(sigmaS, order);
+  if (!emission.empty()) permuteArray(emission, order);
   permuteArray(slot, order);
 }
 

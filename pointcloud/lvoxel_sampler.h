@@ -5,7 +5,11 @@
 //   Bounds3 bounds() const;                          // where sigma can be non-zero
 //   const std::vector<Bounds3>& activeBoxes() const; // cells overlapping none are skipped
 //   void coefficients(const Vec3& p, RGB& sigmaA, RGB& sigmaS) const;  // 0 outside
-// so this library does not depend on the volume library's concrete media.
+// so this library does not depend on the volume library's concrete media. A medium that
+// may emit also has (EmittingMediumSampler)
+//   bool emits() const;
+//   RGB emissionSource(const Vec3& p) const;  // sigma_a * Le, 0 outside
+// and its lvoxels carry the emission source averaged over their cube.
 #include <tbb/parallel_for.h>
 
 #include <array>
@@ -26,6 +30,12 @@ concept MediumSampler = requires(const M& m, const Vec3& p, RGB& a, RGB& s) {
   { m.bounds() } -> std::convertible_to<Bounds3>;
   { m.activeBoxes() } -> std::convertible_to<const std::vector<Bounds3>&>;
   m.coefficients(p, a, s);
+};
+
+template <class M>
+concept EmittingMediumSampler = MediumSampler<M> && requires(const M& m, const Vec3& p) {
+  { m.emits() } -> std::convertible_to<bool>;
+  { m.emissionSource(p) } -> std::convertible_to<RGB>;
 };
 
 struct LvoxelSettings {
@@ -66,24 +76,37 @@ inline RGB sanitized(const RGB& c) {
   return {f(c.x), f(c.y), f(c.z)};
 }
 
-// Mean of m^3 jittered (stratified) samples of the coefficients over the cube at `lo`.
+// Mean of m^3 jittered (stratified) samples of the coefficients over the cube at `lo`, and
+// of the emission source when `emission` is not null.
 template <class Medium>
 void averageCoefficients(const Medium& medium, const Vec3& lo, float spacing, int m, Rng& rng,
-                         RGB& sigmaA, RGB& sigmaS) {
+                         RGB& sigmaA, RGB& sigmaS, RGB* emission) {
   const float fm = static_cast<float>(m);
-  RGB sumA(0.0f), sumS(0.0f);
+  RGB sumA(0.0f), sumS(0.0f), sumE(0.0f);
   for (int s = 0; s < m * m * m; ++s) {
     const Vec3 unit((static_cast<float>(s % m) + rng.uniform()) / fm,
                     (static_cast<float>((s / m) % m) + rng.uniform()) / fm,
                     (static_cast<float>(s / (m * m)) + rng.uniform()) / fm);
     RGB a(0.0f), sc(0.0f);
-    medium.coefficients(lo + unit * spacing, a, sc);
+    const Vec3 p = lo + unit * spacing;
+    medium.coefficients(p, a, sc);
     sumA += sanitized(a);
     sumS += sanitized(sc);
+    if constexpr (EmittingMediumSampler<Medium>)
+      if (emission) sumE += sanitized(medium.emissionSource(p));
   }
   const float inv = 1.0f / (fm * fm * fm);
   sigmaA = sumA * inv;
   sigmaS = sumS * inv;
+  if (emission) *emission = sumE * inv;
+}
+
+template <class Medium>
+bool mediumEmits(const Medium& medium) {
+  if constexpr (EmittingMediumSampler<Medium>)
+    return medium.emits();
+  else
+    return false;
 }
 
 // The lvoxels of one slice of cells (fixed k), and their cells.
@@ -114,6 +137,7 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
   const std::vector<uint8_t> active = detail::activeCells(grid, medium.activeBoxes());
   const int m = settings.samplesPerAxis;
   const float h = 0.5f * settings.spacing;
+  const bool emits = detail::mediumEmits(medium);
 
   // One slice of cells (fixed k) per task; slices are concatenated in order.
   std::vector<detail::LvoxelSlice> slices(static_cast<size_t>(grid.cells[2]));
@@ -126,9 +150,11 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
         if (!active[cell]) continue;
         const Vec3 lo = grid.cellLow(i, j, k);
         Rng rng(settings.seed, cell);
-        RGB sigmaA, sigmaS;
-        detail::averageCoefficients(medium, lo, settings.spacing, m, rng, sigmaA, sigmaS);
+        RGB sigmaA, sigmaS, emission;
+        detail::averageCoefficients(medium, lo, settings.spacing, m, rng, sigmaA, sigmaS,
+                                    emits ? &emission : nullptr);
         if (isBlack(sigmaA + sigmaS)) continue;
+        if (emits) slice.lvoxels.emission.push_back(emission);
         slice.lvoxels.position.push_back(lo + Vec3(h, h, h));
         slice.lvoxels.halfSize.push_back(h);
         slice.lvoxels.sigmaA.push_back(sigmaA);
@@ -143,6 +169,7 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
     cat(out.halfSize, s.lvoxels.halfSize);
     cat(out.sigmaA, s.lvoxels.sigmaA);
     cat(out.sigmaS, s.lvoxels.sigmaS);
+    cat(out.emission, s.lvoxels.emission);
     for (long cell : s.cells) out.slot.push_back(out.light.occupy(cell));
   }
   return out;

@@ -22,6 +22,7 @@
 #include "src/core/file_hash.h"
 #include "src/core/image_io.h"
 #include "src/core/progress.h"
+#include "src/render/cloud_export.h"
 #include "src/render/layers.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -50,6 +51,7 @@ struct RenderFlags {
   std::string convergenceReference;
   std::string convergenceCsv;
   std::string layers;
+  std::string exportCloud;
   double exposure = 0.0;
   bool half = false;
   bool quiet = false;
@@ -141,6 +143,22 @@ LayerSet parseLayers(const std::string& list, Mode mode) {
   return layers;
 }
 
+// --export-cloud: a .ply or .vdb path that is no input and no other output, in a mode that
+// builds a point cloud.
+void checkExportCloud(const std::string& path, Mode mode, const RenderOutputs& outputs,
+                      const std::string& reportPath, const std::vector<std::string>& inputs) {
+  checkCloudPath(path, "--export-cloud");
+  if (!isPointBased(mode))
+    throw InputError(path, "--export-cloud",
+                     "needs mode pcb or pcb-surfels (mode " + std::string(modeName(mode)) +
+                         " builds no point cloud)");
+  checkOutputPath(path, "--export-cloud", inputs);
+  for (const std::string& other : {outputs.exrPath(), outputs.pngPath(), reportPath})
+    if (!other.empty() &&
+        std::filesystem::weakly_canonical(other) == std::filesystem::weakly_canonical(path))
+      throw InputError(path, "--export-cloud", "is the same file as another output");
+}
+
 // The profiling lines of the point-based modes: phase times, element counts, memory.
 void printPointCloudSummary(const Report& report) {
   auto count = [&](const char* key) { return report.count(key); };
@@ -225,6 +243,11 @@ int runRender(const RenderFlags& flags, Collective& team) {
   plan.timeLimitSeconds = flags.timeLimit;
   plan.team = &team;
   plan.layers = parseLayers(flags.layers, scene.render.mode);
+  ExportedCloud cloud;
+  if (!flags.exportCloud.empty()) {
+    checkExportCloud(flags.exportCloud, scene.render.mode, outputs, flags.report, inputs);
+    plan.cloudOut = &cloud;
+  }
   Image reference;
   if (!flags.convergenceReference.empty()) {
     if (flags.convergenceCsv.empty())
@@ -260,6 +283,7 @@ int runRender(const RenderFlags& flags, Collective& team) {
   if (!team.isRoot()) return 0;  // the root writes the one image and report
   outputs.write(image, result.layers, report, flags.half, [&](OutputSet& set) {
     if (plan.reference) stageConvergenceCsv(set, flags.convergenceCsv, result.convergence);
+    if (plan.cloudOut) writeCloud(flags.exportCloud, cloud, &set);
   });
   if (!flags.quiet) {
     printSummary(scene, report, outputs.exrPath());
@@ -329,6 +353,10 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option("--layers", flags->layers,
                   "AOV layers to write in the EXR beside the beauty: all, or a list of " +
                       namesOf(kLayerNames) + " (variance: mc only; docs/layers.md)");
+  cmd->add_option("--export-cloud", flags->exportCloud,
+                  "pcb, pcb-surfels: write the point cloud (surfels and lvoxels with position, "
+                  "normal, radius, cached radiance) as CLOUD.ply or an OpenVDB PointDataGrid "
+                  "CLOUD.vdb");
   cmd->add_option("--exposure", flags->exposure,
                   "Exposure of the PNG preview in stops (x 2^E before the tone map; the EXR "
                   "is never scaled)")

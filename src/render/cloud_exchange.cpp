@@ -11,13 +11,13 @@ namespace {
 // The fields of a surfel slice, in this order; change it with the fields.
 constexpr uint32_t kSurfelLayout = 1;
 // The fields of a rank's lvoxels: per medium its grid, then its arrays.
-constexpr uint32_t kLvoxelLayout = 1;
+constexpr uint32_t kLvoxelLayout = 2;
 
 struct LvoxelShare {
   LvoxelGrid grid;
   std::vector<Vec3> position;
   std::vector<float> halfSize;
-  std::vector<RGB> sigmaA, sigmaS;
+  std::vector<RGB> sigmaA, sigmaS, emission;  // emission: empty when the medium emits not
   std::vector<int64_t> cell;
 };
 
@@ -115,6 +115,7 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
     w.array(l.halfSize);
     w.array(l.sigmaA);
     w.array(l.sigmaS);
+    w.array(l.emission);
     std::vector<int64_t> cells(l.size());
     for (size_t i = 0; i < l.size(); ++i) cells[i] = l.light.cellOfSlot(l.slot[i]);
     w.array(cells);
@@ -137,10 +138,11 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
       reader.array(s.halfSize, "lvoxel sizes");
       reader.array(s.sigmaA, "lvoxel sigma_a");
       reader.array(s.sigmaS, "lvoxel sigma_s");
+      reader.array(s.emission, "lvoxel emission");
       reader.array(s.cell, "lvoxel cells");
       const size_t n = s.position.size();
       if (s.halfSize.size() != n || s.sigmaA.size() != n || s.sigmaS.size() != n ||
-          s.cell.size() != n)
+          s.cell.size() != n || (!s.emission.empty() && s.emission.size() != n))
         throw std::runtime_error("the lvoxels received from " + from +
                                  ": arrays of different lengths");
       if (n > 0 && !(s.grid == shares[m].light.grid()) && shares[m].size() > 0)
@@ -175,11 +177,16 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
       out.halfSize.push_back(s.halfSize[i]);
       out.sigmaA.push_back(s.sigmaA[i]);
       out.sigmaS.push_back(s.sigmaS[i]);
+      if (!s.emission.empty()) {
+        out.emission.resize(out.position.size() - 1, RGB(0.0f));
+        out.emission.push_back(s.emission[i]);
+      }
       if (s.cell[i] < 0 || static_cast<double>(s.cell[i]) >= s.grid.cellCount())
         throw std::runtime_error("the lvoxels received from rank " + std::to_string(best) +
                                  ": cell " + std::to_string(s.cell[i]) + " outside the grid");
       out.slot.push_back(out.light.occupy(static_cast<long>(s.cell[i])));
     }
+    if (!out.emission.empty()) out.emission.resize(out.position.size(), RGB(0.0f));
   }
   return whole;
 }

@@ -35,6 +35,10 @@ struct MediumForLvoxels {
     sigmaA = c.sigmaA;
     sigmaS = c.sigmaS;
   }
+  bool emits() const { return medium.emits(); }
+  RGB emissionSource(const Vec3& p) const {
+    return medium.bounds.contains(p) ? medium.at(p).source : RGB(0.0f);
+  }
 };
 
 std::vector<Bounds3> activeBoxes(const Medium& m) {

@@ -9,6 +9,7 @@
 #include "src/core/collective.h"
 #include "src/core/image.h"
 #include "src/core/image_metrics.h"
+#include "src/render/cloud_export.h"
 #include "src/render/tile_renderer.h"
 
 namespace lvox {
@@ -26,6 +27,9 @@ struct RenderPlan {
   Collective* team = nullptr;
   // The AOV layers to write beside the beauty (layers.h); none by default.
   LayerSet layers;
+  // Point-based modes: a copy of the point cloud as the render used it, for
+  // --export-cloud (cloud_export.h); null: none.
+  ExportedCloud* cloudOut = nullptr;
 };
 
 struct ConvergencePoint {

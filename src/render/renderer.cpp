@@ -70,9 +70,10 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
                    "the layers' sums");
   const RenderContext ctx{world, settings, *tracer, lights, &budget};
   MediaSet media;
+  const uint64_t reservedBeforeMedia = budget.reserved();
   {
     PhaseTimer timer(report, "media_load");
-    media = MediaSet::build(job.media, job.volume.interpolation, report.warnings);
+    media = MediaSet::build(job.media, job.volume.interpolation, report.warnings, &budget);
   }
   VolumeTransport volume(ctx, media, job.volume);
   if (settings.mode == Mode::kDirect && job.volume.shadowCache > 0 && media.anyHeterogeneous()) {
@@ -90,7 +91,11 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
   const MajorantTracker tracker(media, job.volume.majorant == MajorantKind::kGrid);
   report.memory["media"] = media.memoryBytes();
-  budget.reserve(media.memoryBytes(), job.sceneFile, "media", "the media's grids");
+  // The grids' trees were reserved as they were read; the rest (majorants) now.
+  const uint64_t gridsReserved = budget.reserved() - reservedBeforeMedia;
+  if (media.memoryBytes() > gridsReserved)
+    budget.reserve(media.memoryBytes() - gridsReserved, job.sceneFile, "media",
+                   "the media's grids");
   SamplerCounters counters;
   PointBasedCache pointCache;
   PixelSampler sampler;
@@ -101,6 +106,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     case Mode::kPcb:
     case Mode::kPcbSurfels:
       pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
+      if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud);
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
       break;
     case Mode::kDirect:

@@ -22,8 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A box on a floor in a fog bank, lit by a sun and the sky: mc paths scatter in the fog
-// and between the surfaces; pcb builds surfels, lvoxels and interreflection passes.
+// A box on a floor in a faintly glowing fog bank, lit by a sun and the sky: mc paths
+// scatter in the fog and between the surfaces; pcb builds surfels, lvoxels (with the fog's
+// emission, exchanged between ranks) and interreflection passes.
 const char* kScene = R"({
   "camera": {"position": [0, 1.5, 4], "look_at": [0, 0.3, 0], "vfov_deg": 45, "width": 40, "height": 36},
   "render": {"mode": "mc", "spp": 5, "max_bounces": 4},
@@ -32,7 +33,8 @@ const char* kScene = R"({
              {"type": "box", "min": [-0.4,0,-0.4], "max": [0.4,0.8,0.4], "material": "red"}],
   "lights": [{"type": "directional", "direction": [0.3, -1, -0.2], "irradiance": 3},
              {"type": "environment", "radiance": 0.2}],
-  "media": [{"type": "homogeneous", "min": [-2, 0, -2], "max": [2, 1.2, 2], "sigma_a": 0.1, "sigma_s": 0.3}],
+  "media": [{"type": "homogeneous", "min": [-2, 0, -2], "max": [2, 1.2, 2], "sigma_a": 0.1, "sigma_s": 0.3,
+              "emission": 0.5}],
   "pointcloud": {"target_surfels": 3000, "lvoxel_spacing": 0.2, "bounces": 3, "gather_spacing": 2}
 })";
 

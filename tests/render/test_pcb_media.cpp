@@ -87,6 +87,48 @@ TEST(PointBasedMedia, MultipleScatteringAgreesWithMonteCarlo) {
   EXPECT_GT(pcb.report.counts.at("cache_gather_rays"), 0u);
 }
 
+// An emissive medium lights the scene: a floor (albedo 0.5) under a purely absorbing slab
+// (sigma_a = 1, emission Le = 2) 1 to 2 units above it, no light source. The floor's
+// radiance is rho / pi times its irradiance, the integral over the hemisphere of
+// Le (1 - e^{-sigma_a l(w)}) cos, l(w) the path length in the slab, computed here by
+// quadrature. The camera sees the floor from between floor and slab, so all of its light
+// is the medium's emission after one surface bounce: pcb carries it on the lvoxels (their
+// source radiance includes sigma_a Le / sigma_t) and mc on absorbing collisions.
+TEST(PointBasedMedia, EmissiveMediumLightsTheFloor) {
+  const std::string scene = R"({
+    "camera": {"position": [0, 0.5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "vfov_deg": 0.001, "width": 1, "height": 1},
+    "render": {"max_bounces": 4},
+    "materials": {"floor": {"albedo": 0.5}},
+    "shapes": [{"type": "quad", "corners": [[-3,0,-3],[3,0,-3],[3,0,3],[-3,0,3]], "material": "floor"}],
+    "media": [{"type": "homogeneous", "min": [-3, 1, -3], "max": [3, 2, 3], "sigma_a": 1, "emission": 2}],
+    "volume_integrator": {"solver": "rk4", "step": 0.05},
+    "pointcloud": {"lvoxel_spacing": 0.2}})";
+  // Irradiance at the origin: midpoint rule over (theta, phi), the slab [-3, 3] x [1, 2]
+  // x [-3, 3] entered and left along each direction.
+  double irradiance = 0.0;
+  const int nt = 400, np = 400;
+  for (int i = 0; i < nt; ++i) {
+    const double theta = (i + 0.5) / nt * M_PI / 2, dt = M_PI / 2 / nt;
+    for (int j = 0; j < np; ++j) {
+      const double phi = (j + 0.5) / np * 2 * M_PI, dp = 2 * M_PI / np;
+      const double dy = std::cos(theta), dx = std::sin(theta) * std::cos(phi),
+                   dz = std::sin(theta) * std::sin(phi);
+      double t0 = 1.0 / dy, t1 = 2.0 / dy;  // between the slab's planes
+      for (double d : {dx, dz})
+        if (std::abs(d) > 1e-12) t1 = std::min(t1, 3.0 / std::abs(d));
+      const double length = std::max(0.0, t1 - t0);
+      irradiance += 2.0 * (1 - std::exp(-length)) * dy * std::sin(theta) * dt * dp;
+    }
+  }
+  const double expected = 0.5 * irradiance / M_PI;
+  const Pixel pcb = renderPixel(scene, "pcb");
+  const Pixel mc = renderPixel(scene, "mc", 16384);
+  ASSERT_GT(expected, 0.3);  // most of the sky is the glowing slab
+  EXPECT_NEAR(mc.value.x, expected, 0.02 * expected);
+  EXPECT_NEAR(pcb.value.x, expected, 0.05 * expected);
+  EXPECT_GT(pcb.report.counts.at("lvoxels"), 0u);
+}
+
 }  // namespace
 }  // namespace lvox
 

@@ -45,14 +45,22 @@ void warnUnusedGrids(const MediumDesc& d, std::vector<std::string>& warnings) {
 }  // namespace
 
 MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation interpolation,
-                         std::vector<std::string>& warnings) {
+                         std::vector<std::string>& warnings, MemoryBudget* budget) {
   MediaSet set;
   for (const MediumDesc& d : media) {
     Medium m;
     if (d.type == MediumType::Vdb) {
+      // Each grid's tree, reserved before OpenVDB reads it.
+      auto reserve = [&](const std::string& field, const std::string& grid) {
+        return [=](uint64_t bytes) {
+          if (budget)
+            budget->reserve(bytes, d.file, field, "grid '" + grid + "' as OpenVDB holds it");
+        };
+      };
       GridLoadReport report;
-      auto grid = std::make_shared<SparseGrid>(
-          loadVdbGrid(d.file, d.grid, d.transform, d.field + ".grid", report));
+      auto grid =
+          std::make_shared<SparseGrid>(loadVdbGrid(d.file, d.grid, d.transform, d.field + ".grid",
+                                                   report, reserve(d.field + ".grid", d.grid)));
       if (report.clampedNegative > 0)
         warnings.push_back(d.file + ": " + std::to_string(report.clampedNegative) +
                            " negative voxels clamped to 0 (most negative " +
@@ -78,14 +86,15 @@ MediaSet MediaSet::build(const std::vector<MediumDesc>& media, Interpolation int
       m.emission = d.emission;
       if (!d.emissionGrid.empty()) {
         GridLoadReport emissionReport;
-        m.emissionGrid = std::make_shared<SparseGrid>(loadVdbGrid(
-            d.file, d.emissionGrid, d.transform, d.field + ".emission_grid", emissionReport));
+        m.emissionGrid = std::make_shared<SparseGrid>(
+            loadVdbGrid(d.file, d.emissionGrid, d.transform, d.field + ".emission_grid",
+                        emissionReport, reserve(d.field + ".emission_grid", d.emissionGrid)));
       }
       if (!d.temperatureGrid.empty()) {
         GridLoadReport temperatureReport;
-        m.temperatureGrid = std::make_shared<SparseGrid>(
-            loadVdbGrid(d.file, d.temperatureGrid, d.transform, d.field + ".temperature_grid",
-                        temperatureReport));
+        m.temperatureGrid = std::make_shared<SparseGrid>(loadVdbGrid(
+            d.file, d.temperatureGrid, d.transform, d.field + ".temperature_grid",
+            temperatureReport, reserve(d.field + ".temperature_grid", d.temperatureGrid)));
         m.temperature = d.temperature;
         m.blackbodyIntensity = d.blackbodyIntensity;
         m.blackbody =

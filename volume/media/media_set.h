@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "src/core/memory_budget.h"
 #include "volume/media/medium.h"
 
 namespace lvox {
@@ -14,8 +15,10 @@ class MediaSet {
   // Builds every described medium (reading VDB grids, sampled with `interpolation`);
   // problems that do not stop the render (negative voxels clamped, empty grids) are
   // appended to `warnings`.
+  // With `budget`, each grid's tree is reserved in it before it is read (loadVdbGrid), so
+  // a grid larger than the budget stops the render before OpenVDB allocates it.
   static MediaSet build(const std::vector<MediumDesc>& media, Interpolation interpolation,
-                        std::vector<std::string>& warnings);
+                        std::vector<std::string>& warnings, MemoryBudget* budget = nullptr);
 
   bool empty() const { return media_.empty(); }
   size_t size() const { return media_.size(); }

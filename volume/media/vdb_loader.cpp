@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -45,6 +46,12 @@ Transform fromVdbMatrix(const openvdb::Mat4d& m) {
   return t;
 }
 
+// An Int64 metadata value of a grid, -1 when it has none.
+int64_t int64Meta(const openvdb::GridBase& grid, const char* key) {
+  const auto value = grid.getMetadata<openvdb::Int64Metadata>(key);
+  return value ? value->value() : -1;
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string& file) {
@@ -62,9 +69,16 @@ std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string&
   return out;
 }
 
+uint64_t estimatedTreeBytes(int64_t fileMemBytes, int64_t fileVoxelCount, uint64_t fileBytes) {
+  if (fileMemBytes > 0) return static_cast<uint64_t>(fileMemBytes);
+  if (fileVoxelCount > 0) return static_cast<uint64_t>(fileVoxelCount) * sizeof(float);
+  return fileBytes;  // compressed values: a lower bound
+}
+
 SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                        const Transform& sceneTransform, const std::string& field,
-                       GridLoadReport& report) {
+                       GridLoadReport& report,
+                       const std::function<void(uint64_t bytes)>& beforeReading) {
   {
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw InputError(file, field, std::string("cannot open: ") + std::strerror(errno));
@@ -88,11 +102,17 @@ SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
       throw InputError(
           file, field,
           "the name '" + gridName + "' is used by " + std::to_string(matches) + " grids");
-    for (const auto& g : metadata)
-      if (g->getName() == gridName && !g->isType<openvdb::FloatGrid>())
+    for (const auto& g : metadata) {
+      if (g->getName() != gridName) continue;
+      if (!g->isType<openvdb::FloatGrid>())
         throw InputError(file, field,
                          "grid '" + gridName + "' holds " + g->valueType() +
                              " values; a density needs a float grid");
+      if (beforeReading)
+        beforeReading(estimatedTreeBytes(int64Meta(*g, openvdb::GridBase::META_FILE_MEM_BYTES),
+                                         int64Meta(*g, openvdb::GridBase::META_FILE_VOXEL_COUNT),
+                                         std::filesystem::file_size(file)));
+    }
     base = vdb.readGrid(gridName);
     vdb.close();
   } catch (const InputError&) {

@@ -1,6 +1,7 @@
 #pragma once
 // Reading a float grid of an OpenVDB file into a SparseGrid (the tree as stored, no copy).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,8 +26,18 @@ struct GridLoadReport {
 // file cannot be read (loadVdbGrid reports that).
 std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string& file);
 
+// `beforeReading(bytes)` is called with the memory the grid's tree will take, from the
+// file's own statistics (OpenVDB writes `file_mem_bytes` with every grid; else the active
+// voxel count x 4 bytes, else the file size), before the tree is read: a budget check that
+// throws stops the load before OpenVDB allocates anything.
 SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                        const Transform& sceneTransform, const std::string& field,
-                       GridLoadReport& report);
+                       GridLoadReport& report,
+                       const std::function<void(uint64_t bytes)>& beforeReading = {});
+
+// The memory a grid's tree takes once read, from its metadata (see loadVdbGrid): the
+// file's `file_mem_bytes`, else `file_voxel_count` x 4 bytes, else the file's size (each
+// negative when the file has none).
+uint64_t estimatedTreeBytes(int64_t fileMemBytes, int64_t fileVoxelCount, uint64_t fileBytes);
 
 }  // namespace lvox

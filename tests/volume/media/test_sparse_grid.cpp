@@ -7,8 +7,10 @@
 #include <cmath>
 #include <vector>
 
+#include "src/core/error.h"
 #include "src/core/rng.h"
 #include "test_util.h"
+#include "volume/media/media_set.h"
 #include "volume/media/vdb_loader.h"
 
 namespace lvox {
@@ -218,6 +220,66 @@ TEST(SparseGrid, ThreadsAndGridsShareNoAccessor) {
     parallel[i] = grids[i % grids.size()].sample(points[i], Interpolation::Tricubic);
   });
   EXPECT_EQ(serial, parallel);
+}
+
+}  // namespace
+}  // namespace lvox
+
+namespace lvox {
+namespace {
+
+// The memory budget sees a grid's tree before OpenVDB reads it: the file's own statistics
+// (file_mem_bytes, written by OpenVDB with every grid) are reserved first, so a grid
+// larger than the budget is refused with one line naming the file, the field and the grid,
+// and one within it is reserved at its size.
+TEST(SparseGrid, TheBudgetSeesTheTreeBeforeItIsRead) {
+  openvdb::initialize();
+  auto grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName("density");
+  auto acc = grid->getAccessor();
+  for (int k = 0; k < 160; ++k)  // 160^3 voxels: about 16 MB of leaves
+    for (int j = 0; j < 160; ++j)
+      for (int i = 0; i < 160; ++i) acc.setValue(openvdb::Coord(i, j, k), 0.5f);
+  const size_t treeBytes = grid->memUsage();
+  const fs::path path = test::tempDir() / "big.vdb";
+  openvdb::io::File(path.string()).write({grid});
+  std::vector<uint64_t> seen;
+  GridLoadReport report;
+  loadVdbGrid(path.string(), "density", Transform(), "media[0].grid", report,
+              [&](uint64_t bytes) { seen.push_back(bytes); });
+  ASSERT_EQ(seen.size(), 1u);
+  // OpenVDB's figure for the tree it wrote: what the loaded tree takes, within 10 %.
+  EXPECT_NEAR(static_cast<double>(seen[0]), static_cast<double>(treeBytes), 0.1 * treeBytes);
+  EXPECT_NEAR(static_cast<double>(report.treeBytes), static_cast<double>(treeBytes),
+              0.1 * treeBytes);
+
+  MediumDesc d;
+  d.type = MediumType::Vdb;
+  d.file = path.string();
+  d.grid = "density";
+  d.field = "media[0]";
+  std::vector<std::string> warnings;
+  MemoryBudget small(8u << 20);
+  try {
+    MediaSet::build({d}, Interpolation::Trilinear, warnings, &small);
+    FAIL() << "a 16 MB grid passed an 8 MB budget";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("big.vdb: media[0].grid: grid 'density' as OpenVDB holds it"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("--max-memory"), std::string::npos) << message;
+  }
+  EXPECT_EQ(small.reserved(), 0u);
+  MemoryBudget enough(1u << 30);
+  const MediaSet media = MediaSet::build({d}, Interpolation::Trilinear, warnings, &enough);
+  EXPECT_EQ(enough.reserved(), seen[0]);
+  EXPECT_LE(enough.reserved(), media.memoryBytes());  // the rest are the majorant trees
+
+  // Without statistics: the voxel count x 4 bytes, else the file size.
+  EXPECT_EQ(estimatedTreeBytes(1000, 10, 7), 1000u);
+  EXPECT_EQ(estimatedTreeBytes(-1, 10, 7), 40u);
+  EXPECT_EQ(estimatedTreeBytes(-1, -1, 7), 7u);
 }
 
 }  // namespace
