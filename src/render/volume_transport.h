@@ -124,7 +124,8 @@ RGB VolumeTransport::radianceWith(const Ray& ray, float tEnd, const RGB& backgro
   RGB radiance(0.0f), throughput(1.0f), emission(0.0f);
   const CameraRayProblem<ScatterSource> problem{media_, ray, scatter};
   const bool splitEmission = parts && media_.anyEmissive();
-  const CameraRayProblem<NoScatter> emissionProblem{media_, ray, NoScatter{}};
+  const NoScatter noScatter;
+  const CameraRayProblem<NoScatter> emissionProblem{media_, ray, noScatter};
   for (const auto& [a, b] : spans) {
     const SegmentPlan plan = radiancePlan(ray, a, b, jitter);
     const float end = std::min(b, plan.end);
