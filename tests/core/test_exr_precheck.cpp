@@ -45,6 +45,42 @@ TEST(ExrPrecheck, HugeAttributeSizeIsRefused) {
   EXPECT_NE(readError(dir / "huge.exr").find("claims 2147483647 bytes"), std::string::npos);
 }
 
+// OpenEXR reads a channel list to its empty name, and fixed-size values by their type,
+// whatever size the file declares for them (found by fuzzing): a channel list declared one
+// byte short put the precheck on the list's terminator, read as the header's end, while
+// OpenEXR read on to a string attribute of 1.8 GB. The precheck now walks the header as
+// OpenEXR does; and readAnyImage sends an EXR to readExr by its magic number, whatever its
+// name, since OpenImageIO would pass it to OpenEXR unchecked.
+TEST(ExrPrecheck, HeaderIsWalkedAsOpenExrReadsIt) {
+  std::string bytes = readAll(kSeed);
+  const std::string channels("channels\0chlist\0", 16);
+  const size_t at = bytes.find(channels);
+  ASSERT_NE(at, std::string::npos);
+  int32_t size = 0;
+  std::memcpy(&size, &bytes[at + channels.size()], 4);
+  size -= 1;  // the list's own terminator is left out
+  std::memcpy(&bytes[at + channels.size()], &size, 4);
+  const std::string spp("lvox.spp\0string\0", 16);
+  const size_t sppAt = bytes.find(spp);
+  ASSERT_NE(sppAt, std::string::npos);
+  const int32_t huge = 0x7fffffff;
+  std::memcpy(&bytes[sppAt + spp.size()], &huge, 4);
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "lying.exr", bytes);
+  EXPECT_NE(readError(dir / "lying.exr").find("attribute 'lvox.spp' claims 2147483647 bytes"),
+            std::string::npos)
+      << readError(dir / "lying.exr");
+  test::writeFile(dir / "lying.png", bytes);
+  try {
+    readAnyImage((dir / "lying.png").string());
+    FAIL() << "read a lying EXR named .png";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("claims 2147483647 bytes"), std::string::npos) << e.what();
+  }
+  // The untouched seed still reads: the walk agrees with OpenEXR on a valid header.
+  EXPECT_EQ(readExr(kSeed.string()).width, readAnyImage(kSeed.string()).width);
+}
+
 TEST(ExrPrecheck, MoreRowsThanOffsetsCanFitAreRefused) {
   std::string bytes = readAll(kSeed);
   const std::string key("dataWindow\0box2i\0", 17);
