@@ -42,6 +42,7 @@ struct RenderFlags {
   std::optional<int64_t> seed;
   std::optional<int> threads;
   std::optional<std::string> maxMemory;
+  std::optional<std::string> maxEvaluations;
   std::optional<int> width, height;
   std::optional<std::string> solver;
   std::optional<float> step;
@@ -116,6 +117,7 @@ std::vector<SettingOverride> overrides(const RenderFlags& f) {
   addOverride(out, flags::kSeed, f.seed);
   addOverride(out, flags::kThreads, f.threads);
   addOverride(out, flags::kMaxMemory, f.maxMemory);
+  addOverride(out, flags::kMaxEvaluations, f.maxEvaluations);
   addOverride(out, flags::kWidth, f.width);
   addOverride(out, flags::kHeight, f.height);
   addOverride(out, flags::kSolver, f.solver);
@@ -332,6 +334,11 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
                   "Memory budget, e.g. 4G or 512M; a render that would need more stops before "
                   "allocating it" +
                       scene(flags::kMaxMemory, "80 % of this machine's memory"));
+  cmd->add_option(flags::kMaxEvaluations.flag, flags->maxEvaluations,
+                  "Work budget in medium evaluations, e.g. 5e10; a render projected to need "
+                  "more stops early" +
+                      scene(flags::kMaxEvaluations,
+                            "1e6 per camera sample, at least 1e10"));
   cmd->add_option(flags::kWidth.flag, flags->width, "Image width" + scene(flags::kWidth, ""));
   cmd->add_option(flags::kHeight.flag, flags->height, "Image height" + scene(flags::kHeight, ""));
   cmd->add_option(flags::kSolver.flag, flags->solver,

@@ -4,6 +4,7 @@
 
 #include "src/core/memory_budget.h"
 #include "src/core/names.h"
+#include "src/core/work_budget.h"
 
 namespace lvox {
 namespace {
@@ -37,6 +38,7 @@ RenderSettings parseRenderSettings(JsonObject r) {
                [](std::string_view text, const std::string& file, const std::string& field) {
                  return text == "auto" ? uint64_t(0) : parseByteSize(text, file, field);
                });
+  s.maxEvaluations = r.choice("max_evaluations", "auto", parseEvaluationCount);
   r.finish();
   return s;
 }

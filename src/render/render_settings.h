@@ -26,6 +26,10 @@ struct RenderSettings {
   // Memory budget of the render in bytes ("max_memory": "4G", or --max-memory); 0: 80 % of
   // the machine's memory (src/core/memory_budget.h). It does not change the image.
   uint64_t maxMemory = 0;
+  // Budget of medium evaluations for the whole render ("max_evaluations": "5e10", or
+  // --max-evaluations); 0: derived from the camera samples (src/core/work_budget.h). It
+  // does not change the image.
+  uint64_t maxEvaluations = 0;
 };
 
 // Reads the "render" object; unknown keys and out-of-range values throw.

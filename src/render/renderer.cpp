@@ -10,6 +10,7 @@
 #include "src/render/distributed_render.h"
 #include "src/render/mc_integrator.h"
 #include "src/render/pcb_integrator.h"
+#include "src/core/work_budget.h"
 #include "src/render/volume_transport.h"
 
 namespace lvox {
@@ -33,6 +34,23 @@ void sumOverRanks(SamplerCounters& counters, TileStats& stats, Collective& team)
   stats.samples = values[0];
   stats.invalidSamples = values[1];
   for (size_t i = 0; i < std::size(atomics); ++i) atomics[i]->store(values[i + 2]);
+}
+
+// The camera phase against the work budget: every 256th sample projects the phase's
+// evaluations from the samples done, and once the budget is exhausted the remaining
+// samples return at once (the render then fails with the budget's error).
+PixelSampler meteredSampler(PixelSampler sampler, WorkBudget& work,
+                            const std::atomic<uint64_t>& evaluations, uint64_t total) {
+  auto done = std::make_shared<std::atomic<uint64_t>>(0);
+  return [sampler = std::move(sampler), &work, &evaluations, total, done](
+             int x, int y, Rng& rng, SampleLayers* layers) -> RGB {
+    if (work.exhausted()) return RGB(0.0f);
+    const RGB v = sampler(x, y, rng, layers);
+    const uint64_t n = done->fetch_add(1, std::memory_order_relaxed) + 1;
+    if (n % 256 == 0)
+      work.project(evaluations.load(std::memory_order_relaxed), n, total, "the camera rays");
+    return v;
+  };
 }
 
 }  // namespace
@@ -61,6 +79,9 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   const LightSet lights(world, settings.areaLightSamples);
   const LightSet singleSampleLights(world, 1);
   MemoryBudget budget(settings.maxMemory);
+  const uint64_t cameraSamples = static_cast<uint64_t>(world.camera.width) *
+                                 world.camera.height * static_cast<uint64_t>(plan.spp);
+  WorkBudget work(settings.maxEvaluations, cameraSamples, job.sceneFile);
   // The accumulation buffers and the output image (the progressive renderer's sums,
   // variance and counts): about 64 bytes per pixel.
   const uint64_t pixels = static_cast<uint64_t>(world.camera.width) * world.camera.height;
@@ -84,8 +105,10 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
                    "volume_integrator.shadow_cache", "the shadow transmittance cache");
     const uint64_t cameraRays =
         static_cast<uint64_t>(world.camera.width) * world.camera.height * plan.spp;
-    report.add("shadow_cache_medium_evals",
-               volume.buildShadowCache(job.volume.shadowCache, cameraRays));
+    const uint64_t cacheEvals = volume.buildShadowCache(job.volume.shadowCache, cameraRays);
+    report.add("shadow_cache_medium_evals", cacheEvals);
+    work.charge(cacheEvals, "the shadow transmittance cache");
+    work.throwIfExhausted();
     if (volume.shadowCache()) report.memory["shadow_cache"] = volume.shadowCache()->memoryBytes();
   }
   const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
@@ -106,6 +129,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     case Mode::kPcb:
     case Mode::kPcbSurfels:
       pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
+      work.charge(report.count("cache_medium_evals"), "the point cloud's light cache");
+      work.throwIfExhausted();
       if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud);
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
       break;
@@ -113,6 +138,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
       sampler = directSampler(ctx, volume, counters);
       break;
   }
+  sampler = meteredSampler(std::move(sampler), work, counters.mediumEvals,
+                           cameraSamples / static_cast<uint64_t>(team.size()));
   TileStats stats;
   RenderResult result;
   {
@@ -124,9 +151,11 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
       result = renderProgressive(world.camera.width, world.camera.height, settings.seed, sampler,
                                  plan, stats);
   }
+  work.throwIfExhausted();
   if (team.distributed()) sumOverRanks(counters, stats, team);
   report.add("triangles", world.mesh.triangleCount());
   report.memory["budget"] = budget.limit();
+  report.add("evaluation_budget", work.limit());
   report.memory["budget_reserved"] = budget.reserved();
   report.add("camera_rays", stats.samples);
   report.add("invalid_samples", stats.invalidSamples);

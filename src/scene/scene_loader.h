@@ -37,6 +37,7 @@ inline constexpr FlagField kMaxBounces{"--max-bounces", "render", "max_bounces"}
 inline constexpr FlagField kSeed{"--seed", "render", "seed"};
 inline constexpr FlagField kThreads{"--threads", "render", "threads"};
 inline constexpr FlagField kMaxMemory{"--max-memory", "render", "max_memory"};
+inline constexpr FlagField kMaxEvaluations{"--max-evaluations", "render", "max_evaluations"};
 inline constexpr FlagField kWidth{"--width", "camera", "width"};
 inline constexpr FlagField kHeight{"--height", "camera", "height"};
 inline constexpr FlagField kSolver{"--solver", "volume_integrator", "solver"};

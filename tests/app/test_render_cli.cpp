@@ -140,6 +140,38 @@ TEST(RenderCli, MemoryBudgetStopsARenderBeforeItAllocates) {
   EXPECT_LT(report["memory"]["budget_reserved"].get<uint64_t>(), 256u << 20);
 }
 
+// The work budget: a fine fixed step through fog asks for about 1.7e6 medium evaluations;
+// with a budget of 1e6 the camera phase is projected past it after a few percent of its
+// samples and the render stops with one line and no output. The same scene renders within
+// the default budget, which the report states.
+TEST(RenderCli, WorkBudgetStopsARenderProjectedPastIt) {
+  std::string fog = replaced(
+      "\"lights\": [",
+      "\"media\": [{\"type\": \"homogeneous\", \"min\": [-1, 0, -1], \"max\": [1, 1, 1], "
+      "\"sigma_s\": 0.5}], \"volume_integrator\": {\"solver\": \"rk4\", \"step\": 0.001}, "
+      "\"lights\": [");
+  expectCleanFailure(fog, "render.max_evaluations: the camera rays would need about ",
+                     "scene.json", " --max-evaluations 1e6");
+  expectCleanFailure(fog, "past the budget of 1e+06; raise it with --max-evaluations",
+                     "scene.json", " --max-evaluations 1e6");
+  std::string inFile = fog;
+  const std::string spp = "\"spp\": 2";
+  inFile.replace(inFile.find(spp), spp.size(), spp + ", \"max_evaluations\": \"1e6\"");
+  expectCleanFailure(inFile, "(projected after ");
+  expectCleanFailure(fog, "--max-evaluations: \"lots\"", "", " --max-evaluations lots");
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", fog);
+  const RunResult r = runLvox("render " + (dir / "scene.json").string() + " -o " +
+                                  (dir / "out.exr").string() + " --report " +
+                                  (dir / "r.json").string(),
+                              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::ifstream in(dir / "r.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["counts"]["evaluation_budget"].get<uint64_t>(), 10000000000u);
+  EXPECT_GT(report["counts"]["medium_evals"].get<uint64_t>(), 1500000u);
+}
+
 TEST(RenderCli, MissingMesh) {
   expectCleanFailure(
       replaced("\"shapes\": [", "\"shapes\": [{\"type\": \"obj\", \"file\": \"nope.obj\"},"),
