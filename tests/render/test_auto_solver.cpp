@@ -66,6 +66,7 @@ struct Planner {
     rte::SolveSettings<float> base;
     base.step = scene.volume.step;
     base.maxStep = scene.volume.maxStep;
+    base.tolerance = scene.volume.tolerance;
     solver = std::make_unique<AutoSolver>(scene.world.lights, media, base);
   }
 };
@@ -110,20 +111,40 @@ TEST(AutoSolverPlan, AbsorbingEmittingMediaGetOneExactStepPerPiece) {
   EXPECT_EQ(plan.settings.breakpoints, (std::vector<float>{2.0f, 3.0f}));
 }
 
-TEST(AutoSolverPlan, HeterogeneousMediumUsesDopri5CappedByTheFeatureSize) {
-  const Planner p(R"({
+// Heterogeneous media: RK4 at a step relative to the medium (1.2 steps per half noise
+// period, 0.6 optical depths per step split locally), scaled by the tolerance; the
+// scene's step does not enter.
+TEST(AutoSolverPlan, HeterogeneousMediumUsesRk4RelativeToTheMedium) {
+  const char* scene = R"({
     "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0]},
     "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": 1}],
     "media": [{"type": "procedural", "kind": "noise", "frequency": 4, "min": [-1, -1, -1], "max": [5, 2, 1],
                "sigma_a": 0.3, "sigma_s": 2}],
-    "volume_integrator": {"step": 0.5}})");
+    "volume_integrator": {"step": STEP, "tolerance": TOL}})";
+  auto planner = [&](const std::string& step, const std::string& tol) {
+    std::string text = scene;
+    text.replace(text.find("STEP"), 4, step);
+    text.replace(text.find("TOL"), 3, tol);
+    return std::make_unique<Planner>(text);
+  };
   const Ray ray = rayFrom({0, 0, 0}, {1, 0, 0});
-  const SegmentPlan plan = p.solver->radiance(ray, 0.0f, 5.0f, 0.5f);
-  EXPECT_EQ(plan.method, rte::Method::kDopri5);
-  EXPECT_FLOAT_EQ(plan.settings.maxStep, 0.25f);  // one noise period
-  const SegmentPlan shadow = p.solver->transmittance(ray, 0.0f, 5.0f);
-  EXPECT_EQ(shadow.method, rte::Method::kRk4);
-  EXPECT_FLOAT_EQ(shadow.settings.step, 0.25f);
+  const float halfPeriod = 0.125f;
+  for (const char* step : {"0.5", "0.01"}) {
+    const auto p = planner(step, "1e-3");
+    const SegmentPlan plan = p->solver->radiance(ray, 0.0f, 5.0f, 0.5f);
+    EXPECT_EQ(plan.method, rte::Method::kRk4);
+    EXPECT_FLOAT_EQ(plan.settings.step, halfPeriod / 1.2f) << step;
+    EXPECT_FLOAT_EQ(plan.settings.depthPerStep, 0.6f);
+    const SegmentPlan shadow = p->solver->transmittance(ray, 0.0f, 5.0f);
+    EXPECT_EQ(shadow.method, rte::Method::kRk4);
+    EXPECT_FLOAT_EQ(shadow.settings.step, halfPeriod / 1.2f) << step;
+    EXPECT_FLOAT_EQ(shadow.settings.depthPerStep, 0.6f);
+  }
+  // A tolerance 10x tighter: 10^(1/4) more steps.
+  const auto tight = planner("0.5", "1e-4");
+  const SegmentPlan plan = tight->solver->radiance(ray, 0.0f, 5.0f, 0.5f);
+  EXPECT_NEAR(plan.settings.step, halfPeriod / 1.2f / std::pow(10.0f, 0.25f), 1e-6f);
+  EXPECT_NEAR(plan.settings.depthPerStep, 0.6f / std::pow(10.0f, 0.25f), 1e-6f);
 }
 
 TEST(AutoSolverPlan, SpotBeamEdgesAreBreakpointsAndCapTheStep) {

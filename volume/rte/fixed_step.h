@@ -205,13 +205,16 @@ class Ab4Stepper {
 };
 
 // Walks [a, b] on the grid. A step beyond the stepper's limit is split into
-// ceil(sigma h / limit) substeps (one stability event); if the substeps would fall below
-// minStep or exceed the budget, an exact constant-coefficient step covers it instead.
+// ceil(sigma h / limit) substeps (one stability event when sigma h is past
+// `stabilityLimit`, else an accuracy split); if the substeps would fall below minStep or
+// exceed the budget, an exact constant-coefficient step covers it instead.
 template <class Real, class Stepper, class Eval>
 class FixedStepDriver {
  public:
-  FixedStepDriver(Stepper& stepper, Eval& eval, RayState<Real>& state, Real minStep)
-      : stepper_(stepper), eval_(eval), s_(state), minStep_(minStep) {}
+  FixedStepDriver(Stepper& stepper, Eval& eval, RayState<Real>& state, Real minStep,
+                  Real stabilityLimit = Real(0))
+      : stepper_(stepper), eval_(eval), s_(state), minStep_(minStep),
+        stabilityLimit_(stabilityLimit) {}
 
   void run(Real a, Real b, const JitteredGrid<Real>& grid) {
     stepper_.restart();
@@ -234,9 +237,9 @@ class FixedStepDriver {
       ++eval_.counts().steps;
       return r;
     }
-    ++eval_.counts().stabilityEvents;
-    stepper_.restart();
     const Real h = tEnd - t;
+    if (r.sigmaMax * h > stabilityLimit_ * Real(1.000001)) ++eval_.counts().stabilityEvents;
+    stepper_.restart();
     const Real m = std::ceil(r.sigmaMax * h / (r.limit * Real(1.000001)));
     const Real hs = h / m;
     if (depth >= 2 || hs < minStep_ || m > Real(1e6) ||
@@ -264,6 +267,7 @@ class FixedStepDriver {
   Eval& eval_;
   RayState<Real>& s_;
   Real minStep_;
+  Real stabilityLimit_;
 };
 
 }  // namespace lvox::rte

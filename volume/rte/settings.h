@@ -24,6 +24,12 @@ struct SolveSettings {
   // no step straddles one and multistep history restarts there (oracles.md 3.3).
   std::vector<Real> breakpoints;
   uint32_t maxEvaluations = 100000;  // per segment; then finish with the last sample
+  // Fixed-step Runge-Kutta methods: a step whose sigma_t h exceeds this (at its start or
+  // any stage) is split into equal substeps that do not, where it happens: a local
+  // accuracy control from the medium itself (auto sets it; RK4's error on exp(-tau) is
+  // tau^5 / 120 per step). Splits below the method's stability limit are not counted as
+  // stability events. Infinity: only the stability limit splits steps.
+  Real depthPerStep = std::numeric_limits<Real>::infinity();
   // Optical depth past which nothing behind is visible: once every channel's T is below
   // exp(-opaqueDepth) the rest of the segment is one constant-coefficient step from the
   // last sample (not counted as capped). Infinity: integrate to the end. The renderer

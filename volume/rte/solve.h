@@ -71,9 +71,10 @@ void runMethod(Method method, Eval& ev, RayState<Real>& state, Real a, Real b,
     });
   };
   auto fixedRk = [&](const auto& tab) {
-    RkStepper<Real, std::decay_t<decltype(tab)>::kStages> st(tab,
-                                                             static_cast<Real>(stepLimit(method)));
-    FixedStepDriver<Real, decltype(st), Eval> d(st, ev, state, set.minStep);
+    const Real stability = static_cast<Real>(stepLimit(method));
+    RkStepper<Real, std::decay_t<decltype(tab)>::kStages> st(
+        tab, std::min(stability, std::max(set.depthPerStep, Real(1e-3))));
+    FixedStepDriver<Real, decltype(st), Eval> d(st, ev, state, set.minStep, stability);
     pieces([&](Real pa, Real pb) { d.run(pa, pb, grid); });
   };
   auto fixedOther = [&](auto stepper) {

@@ -29,6 +29,37 @@ bool finiteNonNegative(const C3& c) {
   return true;
 }
 
+// A thin stretch then a dense one, no source: sigma 0.5 on [0, 1), 15 on [1, 1.4]; the
+// radiance is the background times T = exp(-0.5 - 6).
+struct ThinThenDense {
+  Sample eval(double t) const { return {C3(t < 1.0 ? 0.5 : 15.0), C3(0.0)}; }
+  static double exact(double lbg) { return std::exp(-6.5) * lbg; }
+};
+
+// depthPerStep splits RK4's steps only where the medium is dense, by its own sigma: at
+// step 0.1 the thin stretch (sigma h = 0.05) keeps its 10 steps and the dense one (sigma
+// h = 1.5, inside RK4's stability limit, so no stability event either way) is split into
+// 3 substeps of 0.5 optical depths. RK4 over exp(-1.5) is 23 % high per step (R(-1.5) =
+// 0.273 against 0.223), over exp(-0.5) 0.04 %.
+TEST(RteRobustness, DepthPerStepSplitsOnlyTheDenseSteps) {
+  const ThinThenDense medium;
+  const double exact = ThinThenDense::exact(1.0);
+  SolveSettings<double> s;
+  s.step = 0.1;
+  s.breakpoints = {1.0};
+  const auto plain = solve(Method::kRk4, medium, 0.0, 1.4, C3(1.0), s);
+  EXPECT_EQ(plain.counts.steps, 14u);
+  EXPECT_EQ(plain.counts.stabilityEvents, 0u);
+  s.depthPerStep = 0.6;
+  const auto split = solve(Method::kRk4, medium, 0.0, 1.4, C3(1.0), s);
+  EXPECT_EQ(split.counts.stabilityEvents, 0u);  // accuracy splits are not instability
+  EXPECT_EQ(split.counts.steps, 10u + 4u * 3u);
+  const double plainError = std::abs(plain.radiance[0] - exact);
+  const double splitError = std::abs(split.radiance[0] - exact);
+  EXPECT_GT(plainError, 1.0 * exact);
+  EXPECT_LT(splitError, 1e-2 * exact);
+}
+
 TEST(RteRobustness, StiffExplicitMethodsReduceStepsAndStayPositive) {
   const Thick thick{1000.0, 500.0};  // sigma d = 1e3 with h = 0.01: sigma h = 10
   const double exact = thick.exact(1.0, 0.2);
