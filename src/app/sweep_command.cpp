@@ -148,7 +148,10 @@ SweepRow renderPoint(const Scene& scene, const SweepPoint& p, const Image& refer
   SweepRow row;
   row.point = p;
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  row.mediumEvals = report.count("medium_evals") + report.count("cache_medium_evals");
+  // Every evaluation the render made: camera rays, the point cloud's light cache and
+  // direct mode's shadow transmittance cache (built with the method under test).
+  row.mediumEvals = report.count("medium_evals") + report.count("cache_medium_evals") +
+                    report.count("shadow_cache_medium_evals");
   row.steps = report.count("solver_steps");
   row.rejected = report.count("rejected_steps");
   row.stabilityEvents = report.count("stability_events");
