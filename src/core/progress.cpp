@@ -95,6 +95,7 @@ std::string Progress::lineLocked(double now) {
 }
 
 void Progress::print(double now) {
+  if (phases_.empty()) return;  // work outside any phase: no bare "lvox:" line
   lastPrint_ = now;
   output_.write("\rlvox: " + lineLocked(now) + "\033[K");
 }

@@ -36,6 +36,17 @@ TEST(Progress, PhasesShowElapsedShareAndTimeLeft) {
   EXPECT_EQ(t.writes.back(), "\rlvox: render   25%  2.0 s, about 6.0 s left\033[K");
 }
 
+// Work counted outside every phase (a tile loop run by a tool without PhaseTimer) prints
+// nothing, not an empty "lvox:" line.
+TEST(Progress, WorkOutsideAnyPhasePrintsNothing) {
+  FakeTerminal t;
+  t.progress.enable(true);
+  t.now = 5.0;
+  t.progress.advance(10);
+  EXPECT_TRUE(t.writes.empty());
+  EXPECT_EQ(t.progress.line(), "");
+}
+
 TEST(Progress, ShareNeverGoesBackAndNestedPhasesGiveTheLineBack) {
   FakeTerminal t;
   t.progress.enable(true);
