@@ -337,8 +337,7 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option(flags::kMaxEvaluations.flag, flags->maxEvaluations,
                   "Work budget in medium evaluations, e.g. 5e10; a render projected to need "
                   "more stops early" +
-                      scene(flags::kMaxEvaluations,
-                            "1e6 per camera sample, at least 1e10"));
+                      scene(flags::kMaxEvaluations, "1e6 per camera sample, at least 1e10"));
   cmd->add_option(flags::kWidth.flag, flags->width, "Image width" + scene(flags::kWidth, ""));
   cmd->add_option(flags::kHeight.flag, flags->height, "Image height" + scene(flags::kHeight, ""));
   cmd->add_option(flags::kSolver.flag, flags->solver,

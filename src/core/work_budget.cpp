@@ -13,8 +13,8 @@ namespace {
 constexpr const char* kField = "render.max_evaluations";
 
 uint64_t derivedLimit(uint64_t cameraSamples) {
-  return static_cast<uint64_t>(
-      std::max(WorkBudget::kFloor, WorkBudget::kPerCameraSample * static_cast<double>(cameraSamples)));
+  return static_cast<uint64_t>(std::max(
+      WorkBudget::kFloor, WorkBudget::kPerCameraSample * static_cast<double>(cameraSamples)));
 }
 
 }  // namespace
@@ -43,8 +43,7 @@ void WorkBudget::exhaust(uint64_t evaluations, std::string_view phase, double fr
   if (claimed_.exchange(true)) return;
   char done[32];
   std::snprintf(done, sizeof done, "%.0f %%", 100.0 * fractionDone);
-  message_ = std::string(phase) +
-             (fractionDone < 1.0 ? " would need about " : " needed ") +
+  message_ = std::string(phase) + (fractionDone < 1.0 ? " would need about " : " needed ") +
              formatCount(static_cast<double>(evaluations)) + " medium evaluations" +
              (fractionDone < 1.0 ? std::string(" (projected after ") + done + " of them)" : "") +
              ", past the budget of " + formatCount(static_cast<double>(limit_)) +

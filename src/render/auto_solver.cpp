@@ -215,7 +215,8 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     return plan;
   }
   plan.method = kHeterogeneousMethod;
-  s.step = std::max(s.minStep, std::min(on.featureSize * kStepsPerFeature * toleranceScale(), beamCap));
+  s.step =
+      std::max(s.minStep, std::min(on.featureSize * kStepsPerFeature * toleranceScale(), beamCap));
   s.depthPerStep = kDepthPerStep * toleranceScale();
   return plan;
 }
@@ -230,7 +231,8 @@ SegmentPlan AutoSolver::transmittance(const Ray& ray, float t0, float t1) const 
   rte::SolveSettings<float>& s = plan.settings;
   s = base_;
   s.jitter = 0.5f;
-  s.step = std::max(s.minStep, mediaOn(ray, t0, t1).featureSize * kStepsPerFeature * toleranceScale());
+  s.step =
+      std::max(s.minStep, mediaOn(ray, t0, t1).featureSize * kStepsPerFeature * toleranceScale());
   s.depthPerStep = kDepthPerStep * toleranceScale();
   return plan;
 }

@@ -6,11 +6,11 @@
 #include <memory>
 #include <vector>
 
+#include "src/core/work_budget.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/distributed_render.h"
 #include "src/render/mc_integrator.h"
 #include "src/render/pcb_integrator.h"
-#include "src/core/work_budget.h"
 #include "src/render/volume_transport.h"
 
 namespace lvox {
@@ -79,8 +79,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   const LightSet lights(world, settings.areaLightSamples);
   const LightSet singleSampleLights(world, 1);
   MemoryBudget budget(settings.maxMemory);
-  const uint64_t cameraSamples = static_cast<uint64_t>(world.camera.width) *
-                                 world.camera.height * static_cast<uint64_t>(plan.spp);
+  const uint64_t cameraSamples = static_cast<uint64_t>(world.camera.width) * world.camera.height *
+                                 static_cast<uint64_t>(plan.spp);
   WorkBudget work(settings.maxEvaluations, cameraSamples, job.sceneFile);
   // The accumulation buffers and the output image (the progressive renderer's sums,
   // variance and counts): about 64 bytes per pixel.

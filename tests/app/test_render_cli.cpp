@@ -145,15 +145,15 @@ TEST(RenderCli, MemoryBudgetStopsARenderBeforeItAllocates) {
 // samples and the render stops with one line and no output. The same scene renders within
 // the default budget, which the report states.
 TEST(RenderCli, WorkBudgetStopsARenderProjectedPastIt) {
-  std::string fog = replaced(
-      "\"lights\": [",
-      "\"media\": [{\"type\": \"homogeneous\", \"min\": [-1, 0, -1], \"max\": [1, 1, 1], "
-      "\"sigma_s\": 0.5}], \"volume_integrator\": {\"solver\": \"rk4\", \"step\": 0.001}, "
-      "\"lights\": [");
-  expectCleanFailure(fog, "render.max_evaluations: the camera rays would need about ",
-                     "scene.json", " --max-evaluations 1e6");
-  expectCleanFailure(fog, "past the budget of 1e+06; raise it with --max-evaluations",
-                     "scene.json", " --max-evaluations 1e6");
+  std::string fog =
+      replaced("\"lights\": [",
+               "\"media\": [{\"type\": \"homogeneous\", \"min\": [-1, 0, -1], \"max\": [1, 1, 1], "
+               "\"sigma_s\": 0.5}], \"volume_integrator\": {\"solver\": \"rk4\", \"step\": 0.001}, "
+               "\"lights\": [");
+  expectCleanFailure(fog, "render.max_evaluations: the camera rays would need about ", "scene.json",
+                     " --max-evaluations 1e6");
+  expectCleanFailure(fog, "past the budget of 1e+06; raise it with --max-evaluations", "scene.json",
+                     " --max-evaluations 1e6");
   std::string inFile = fog;
   const std::string spp = "\"spp\": 2";
   inFile.replace(inFile.find(spp), spp.size(), spp + ", \"max_evaluations\": \"1e6\"");
@@ -161,10 +161,10 @@ TEST(RenderCli, WorkBudgetStopsARenderProjectedPastIt) {
   expectCleanFailure(fog, "--max-evaluations: \"lots\"", "", " --max-evaluations lots");
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", fog);
-  const RunResult r = runLvox("render " + (dir / "scene.json").string() + " -o " +
-                                  (dir / "out.exr").string() + " --report " +
-                                  (dir / "r.json").string(),
-                              dir);
+  const RunResult r =
+      runLvox("render " + (dir / "scene.json").string() + " -o " + (dir / "out.exr").string() +
+                  " --report " + (dir / "r.json").string(),
+              dir);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   std::ifstream in(dir / "r.json");
   const nlohmann::json report = nlohmann::json::parse(in);

@@ -213,7 +213,10 @@ class FixedStepDriver {
  public:
   FixedStepDriver(Stepper& stepper, Eval& eval, RayState<Real>& state, Real minStep,
                   Real stabilityLimit = Real(0))
-      : stepper_(stepper), eval_(eval), s_(state), minStep_(minStep),
+      : stepper_(stepper),
+        eval_(eval),
+        s_(state),
+        minStep_(minStep),
         stabilityLimit_(stabilityLimit) {}
 
   void run(Real a, Real b, const JitteredGrid<Real>& grid) {

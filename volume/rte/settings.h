@@ -37,7 +37,7 @@ struct SolveSettings {
   // ray would otherwise run its full evaluation budget (issue 16: 16 camera rays took
   // 231 M evaluations in smoke at density_scale 1e4).
   Real opaqueDepth = std::numeric_limits<Real>::infinity();
-  uint32_t maxRejections = 30;       // consecutive rejections before accepting at minStep
+  uint32_t maxRejections = 30;  // consecutive rejections before accepting at minStep
   // Monte Carlo: the sample stream (lvox::Rng(seed, stream)).
   uint64_t seed = 1;
   uint64_t stream = 0;
