@@ -298,6 +298,22 @@ TEST_F(MpiCli, RankErrorIsNamedAndEndsTheJob) {
   EXPECT_FALSE(fs::exists(dir_ / "out.exr"));
 }
 
+// The work budget over ranks: each rank projects its own share and the first past the
+// budget ends the job with the budget's message; nothing is written. (A fine fixed step
+// through the fog asks for about 1e8 evaluations.)
+TEST_F(MpiCli, WorkBudgetEndsTheJobOnEveryRank) {
+  const RunResult r = test::runLvoxRanks(2,
+                                         "render " + scene() + " -o " + path("out.exr") +
+                                             " --mode direct --solver rk4 --step 0.001"
+                                             " --max-evaluations 1e6",
+                                         dir_);
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("render.max_evaluations: the camera rays would need about "),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.exr"));
+}
+
 // Rank 1 is killed in the middle of a long render while rank 0 waits for it: the launcher
 // names the rank that died, ends the job instead of hanging, and no image is written.
 TEST_F(MpiCli, KilledRankIsNamedAndEndsTheJob) {
