@@ -38,7 +38,11 @@ RenderSettings parseRenderSettings(JsonObject r) {
                [](std::string_view text, const std::string& file, const std::string& field) {
                  return text == "auto" ? uint64_t(0) : parseByteSize(text, file, field);
                });
-  s.maxEvaluations = r.choice("max_evaluations", "auto", parseEvaluationCount);
+  // A count: a JSON number (5e10) or a string ("5e10", "auto", what --max-evaluations gives).
+  s.maxEvaluations =
+      r.has("max_evaluations") && r.raw("max_evaluations").is_number()
+          ? static_cast<uint64_t>(r.number("max_evaluations", 1e6f, 1e18f, std::nullopt))
+          : r.choice("max_evaluations", "auto", parseEvaluationCount);
   r.finish();
   return s;
 }

@@ -158,6 +158,12 @@ TEST(RenderCli, WorkBudgetStopsARenderProjectedPastIt) {
   const std::string spp = "\"spp\": 2";
   inFile.replace(inFile.find(spp), spp.size(), spp + ", \"max_evaluations\": \"1e6\"");
   expectCleanFailure(inFile, "(projected after ");
+  std::string asNumber = fog;  // a JSON number works as well as a string
+  asNumber.replace(asNumber.find(spp), spp.size(), spp + ", \"max_evaluations\": 1e6");
+  expectCleanFailure(asNumber, "past the budget of 1e+06");
+  std::string tooSmall = fog;
+  tooSmall.replace(tooSmall.find(spp), spp.size(), spp + ", \"max_evaluations\": 10");
+  expectCleanFailure(tooSmall, "render.max_evaluations");
   expectCleanFailure(fog, "--max-evaluations: \"lots\"", "", " --max-evaluations lots");
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", fog);
