@@ -78,9 +78,9 @@ class AutoSolver {
   float addLightStructure(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
   void addMediumFaces(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
 
-  // (tolerance / 1e-3)^(1/4): RK4's steps scale so that a tolerance 10x tighter costs
-  // 10^(1/4) more of them.
-  float toleranceScale() const;
+  // Heterogeneous media: RK4's step per density bump and optical depth per step, both
+  // scaled by (tolerance / 1e-3)^(1/4).
+  void setRelativeSteps(rte::SolveSettings<float>& s, float featureSize) const;
 
   const MediaSet& media_;
   rte::SolveSettings<float> base_;
