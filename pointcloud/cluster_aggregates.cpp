@@ -72,22 +72,29 @@ struct LvoxelSums {
   float volume = 0.0f;
   Vec3 weightedPosition{0, 0, 0};
   RGB crossSection{0, 0, 0};  // sum sigma_t V
-  RGB weightedSource{0, 0, 0};
+  RGB weightedSource[kShCoefficients];
 
-  void add(const Vec3& p, float v, const RGB& xs, const RGB& source) {
+  LvoxelSums() { std::fill(weightedSource, weightedSource + kShCoefficients, RGB(0.0f)); }
+
+  void add(const Vec3& p, float v, const RGB& xs, const RGB* source, int count) {
     volume += v;
     weightedPosition += p * v;
     crossSection += xs;
-    weightedSource += xs * source;
+    for (int k = 0; k < count; ++k) weightedSource[k] += xs * source[k];
   }
-  LvoxelCluster finish() const {
+  // The cluster, and the cross-section-weighted mean of the sources' coefficients into
+  // `source` (count of them).
+  LvoxelCluster finish(RGB* source, int count) const {
     LvoxelCluster c;
+    for (int k = 0; k < count; ++k) source[k] = RGB(0.0f);
     if (volume <= 0.0f) return c;
     c.centroid = weightedPosition / volume;
     c.halfSize = 0.5f * std::cbrt(volume);
     c.sigmaT = crossSection / volume;
-    for (int k = 0; k < 3; ++k)
-      c.sourceRadiance[k] = crossSection[k] > 0.0f ? weightedSource[k] / crossSection[k] : 0.0f;
+    for (int k = 0; k < count; ++k)
+      for (int ch = 0; ch < 3; ++ch)
+        source[k][ch] = crossSection[ch] > 0.0f ? weightedSource[k][ch] / crossSection[ch] : 0.0f;
+    c.sourceRadiance = source[0];
     return c;
   }
 };
@@ -98,6 +105,9 @@ void PointCloud::updateAggregates() {
   const bool surfelClusters = keepSurfelClusters_;
   surfelClusters_.assign(surfelClusters ? nodes_.size() : 0, SurfelCluster{});
   lvoxelClusters_.assign(nodes_.size(), LvoxelCluster{});
+  // Directional lvoxels: every cluster's coefficients (the first is sourceRadiance).
+  const int count = lvoxels_.light.coefficients();
+  lvoxelClusterCoefficients_.assign(count > 1 ? nodes_.size() * kShCoefficients : 0, RGB(0.0f));
   if (nodes_.empty()) return;
   for (size_t level = levelBegin_.size() - 1; level-- > 0;) {
     tbb::parallel_for(levelBegin_[level], levelBegin_[level + 1], [&](uint32_t i) {
@@ -117,7 +127,9 @@ void PointCloud::updateAggregates() {
         }
         for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l) {
           const float v = lvoxels_.volume(l);
-          ls.add(lvoxels_.position[l], v, lvoxels_.sigmaT(l) * v, lvoxels_.sourceRadiance(l));
+          RGB source[kShCoefficients];
+          lvoxels_.sourceCoefficients(l, source);
+          ls.add(lvoxels_.position[l], v, lvoxels_.sigmaT(l) * v, source, count);
         }
       } else {
         for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
@@ -131,7 +143,10 @@ void PointCloud::updateAggregates() {
           const LvoxelCluster& lc = lvoxelClusters_[c];
           const float side = 2.0f * lc.halfSize;
           const float v = side * side * side;
-          if (v > 0.0f) ls.add(lc.centroid, v, lc.sigmaT * v, lc.sourceRadiance);
+          if (v > 0.0f)
+            ls.add(lc.centroid, v, lc.sigmaT * v,
+                   count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
+                   count);
         }
       }
       if (surfelClusters && node.isLeaf()) {
@@ -159,7 +174,10 @@ void PointCloud::updateAggregates() {
       }
       for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
         mutableNode.bounds.extend(nodes_[c].bounds);
-      lvoxelClusters_[i] = ls.finish();
+      RGB source[kShCoefficients];
+      lvoxelClusters_[i] = ls.finish(source, count);
+      if (count > 1)
+        std::copy(source, source + kShCoefficients, &lvoxelClusterCoefficients_[i * kShCoefficients]);
     });
   }
 }

@@ -3,6 +3,7 @@
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/surfels.h"
 #include "src/core/check.h"
+#include "src/core/spherical_harmonics.h"
 
 namespace lvox {
 
@@ -41,12 +42,31 @@ RGB LvoxelSet::sourceRadiance(size_t i) const {
   return scattered + RGB(ratio(e.x, st.x), ratio(e.y, st.y), ratio(e.z, st.z));
 }
 
+void LvoxelSet::sourceCoefficients(size_t i, RGB* out) const {
+  out[0] = sourceRadiance(i);
+  const int count = light.coefficients();
+  if (count == 1) return;
+  const RGB st = sigmaT(i);
+  const RGB albedo(ratio(sigmaS[i].x, st.x), ratio(sigmaS[i].y, st.y), ratio(sigmaS[i].z, st.z));
+  const std::array<float, kShBands - 1> chi =
+      phaseMoments.empty() ? std::array<float, kShBands - 1>{} : phaseMoments[i];
+  for (int k = 1; k < count; ++k)
+    out[k] = albedo * light.inScatter(slot[i], k) * chi[static_cast<size_t>(shBand(k) - 1)];
+}
+
+RGB LvoxelSet::sourceRadiance(size_t i, const float* yhat) const {
+  RGB c[kShCoefficients];
+  sourceCoefficients(i, c);
+  return shDot(c, yhat, light.coefficients());
+}
+
 void LvoxelSet::resize(size_t n) {
   position.resize(n);
   halfSize.resize(n);
   sigmaA.resize(n);
   sigmaS.resize(n);
   if (!emission.empty()) emission.resize(n, RGB(0.0f));
+  if (!phaseMoments.empty()) phaseMoments.resize(n, {});
   light =
       LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
   slot.resize(n);
@@ -58,6 +78,7 @@ void LvoxelSet::append(const LvoxelSet& other) {
   if (size() == 0 && light.occupiedCount() == 0) {
     light = LvoxelLight(other.light.grid());
     light.setChannels(other.light.deltaLights(), other.light.phases());
+    light.setCoefficients(other.light.coefficients());
   } else {
     LVOX_CHECK(light.grid() == other.light.grid(), "appending lvoxels of another grid");
   }
@@ -66,6 +87,14 @@ void LvoxelSet::append(const LvoxelSet& other) {
   cat(halfSize, other.halfSize);
   cat(sigmaA, other.sigmaA);
   cat(sigmaS, other.sigmaS);
+  // Phase moments: kept per lvoxel as soon as one set has them (isotropic zeros else).
+  if (!other.phaseMoments.empty() || !phaseMoments.empty()) {
+    phaseMoments.resize(size() - other.size(), {});
+    if (other.phaseMoments.empty())
+      phaseMoments.resize(size(), {});
+    else
+      cat(phaseMoments, other.phaseMoments);
+  }
   // Emission: kept per lvoxel as soon as one set has it (zeros for the other's).
   if (!other.emission.empty() || !emission.empty()) {
     emission.resize(size() - other.size(), RGB(0.0f));
@@ -83,6 +112,7 @@ void LvoxelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(sigmaA, order);
   permuteArray(sigmaS, order);
   if (!emission.empty()) permuteArray(emission, order);
+  if (!phaseMoments.empty()) permuteArray(phaseMoments, order);
   permuteArray(slot, order);
 }
 

@@ -38,8 +38,9 @@ struct GatherOptions {
 // geometry and the media only, never on the cached light, so a gather is linear in the
 // cloud's radiance (GatherOperator records them once for all interreflection passes).
 // Sink interface:
-//   surfel(i, front, w), surfelCluster(node, front, w), lvoxel(i, w),
-//   lvoxelCluster(node, w), addBackground(w)
+//   beginRay(dir) (each ray's direction, before its weights: lvoxels in anisotropic
+//   media send their light by direction), surfel(i, front, w), surfelCluster(node, front,
+//   w), lvoxel(i, w), lvoxelCluster(node, w), addBackground(w)
 template <class Sink>
 struct GatherRayWeights {
   const PointCloud& cloud;
@@ -84,7 +85,12 @@ struct RadianceSink {
   const PointCloud& cloud;
   RGB background{0, 0, 0};
   RGB radiance{0, 0, 0};
+  int coefficients = cloud.lvoxels().light.coefficients();
+  float yhat[kShCoefficients] = {1.0f};  // the ray's spherical harmonics (directional lvoxels)
 
+  void beginRay(const Vec3& dir) {
+    if (coefficients > 1) shBasis(dir, coefficients, yhat);
+  }
   void surfel(uint32_t i, bool front, const RGB& w) {
     const SurfelSet& s = cloud.surfels();
     radiance += w * (front ? s.radianceFront[i] : s.radianceBack[i]);
@@ -93,9 +99,12 @@ struct RadianceSink {
     const SurfelCluster& c = cloud.surfelClusters()[n];
     radiance += w * (front ? c.radianceFront : c.radianceBack);
   }
-  void lvoxel(uint32_t i, const RGB& w) { radiance += w * cloud.lvoxels().sourceRadiance(i); }
+  void lvoxel(uint32_t i, const RGB& w) {
+    radiance += w * (coefficients > 1 ? cloud.lvoxels().sourceRadiance(i, yhat)
+                                      : cloud.lvoxels().sourceRadiance(i));
+  }
   void lvoxelCluster(uint32_t n, const RGB& w) {
-    radiance += w * cloud.lvoxelClusters()[n].sourceRadiance;
+    radiance += w * shDot(cloud.lvoxelClusterCoefficients(n), yhat, coefficients);
   }
   void addBackground(const RGB& w) { radiance += w * background; }
 };
@@ -105,6 +114,7 @@ struct RadianceSink {
 template <class Sink>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
                     float scale, TraversalScratch& scratch, Sink& sink) {
+  sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance};
   if (!options.tracer || !options.lookup) {
     traverse(cloud, ray, weights,

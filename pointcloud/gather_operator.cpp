@@ -6,7 +6,8 @@ GatherColumns::GatherColumns(const PointCloud& cloud)
     : surfels(cloud.surfels().size()),
       lvoxels(cloud.lvoxels().size()),
       surfelClusters(cloud.surfelClusters().size()),
-      lvoxelClusters(cloud.lvoxelClusters().size()) {}
+      lvoxelClusters(cloud.lvoxelClusters().size()),
+      coefficients(cloud.lvoxels().light.coefficients()) {}
 
 std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
                                        const RGB& backgroundRadiance) const {
@@ -16,7 +17,7 @@ std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
 }
 
 void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
-                               std::vector<RGB>& v) const {
+                               std::vector<RGB>& v, std::vector<RGB>* directional) const {
   v.resize(size());
   const SurfelSet& s = cloud.surfels();
   for (size_t i = 0; i < surfels; ++i) {
@@ -31,21 +32,46 @@ void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRad
   for (size_t n = 0; n < lvoxelClusters; ++n)
     v[lvoxelCluster(index(n))] = cloud.lvoxelClusters()[n].sourceRadiance;
   v[background()] = backgroundRadiance;
+  if (!directional || !this->directional()) return;
+  const auto count = static_cast<size_t>(coefficients);
+  directional->resize((lvoxels + lvoxelClusters) * count);
+  for (size_t i = 0; i < lvoxels; ++i)
+    cloud.lvoxels().sourceCoefficients(i, directional->data() + i * count);
+  for (size_t n = 0; n < lvoxelClusters; ++n) {
+    const RGB* c = cloud.lvoxelClusterCoefficients(index(n));
+    std::copy(c, c + count, directional->data() + (lvoxels + n) * count);
+  }
 }
 
-// Rays of one gather often reach the same element: one entry per column.
-void GatherOperator::appendMerged(std::vector<GatherEntry>& row, std::vector<GatherEntry>& entries,
-                                  std::vector<uint32_t>& rowEnd) {
-  std::sort(row.begin(), row.end(),
-            [](const GatherEntry& a, const GatherEntry& b) { return a.column < b.column; });
+// Rays of one gather often reach the same element: one entry per column (per ray and
+// column where the operator keeps rays apart; rays that picked up nothing are dropped).
+void GatherOperator::appendMerged(std::vector<GatherEntry>& row, const std::vector<Vec3>* rays,
+                                  std::vector<GatherEntry>& entries, Block& block) {
+  std::sort(row.begin(), row.end(), [](const GatherEntry& a, const GatherEntry& b) {
+    return a.ray != b.ray ? a.ray < b.ray : a.column < b.column;
+  });
   const size_t rowBegin = entries.size();
   for (const GatherEntry& e : row) {
-    if (entries.size() > rowBegin && entries.back().column == e.column)
+    const bool sameRay = entries.size() > rowBegin && entries.back().ray == e.ray;
+    if (sameRay && entries.back().column == e.column) {
       entries.back().weight += e.weight;
-    else
-      entries.push_back(e);
+      continue;
+    }
+    if (rays && !sameRay && entries.size() > rowBegin) {  // the previous ray ends
+      block.rayEnd.push_back(static_cast<uint32_t>(entries.size()));
+      block.rayDirection.push_back((*rays)[entries.back().ray]);
+    }
+    entries.push_back(e);
   }
-  rowEnd.push_back(static_cast<uint32_t>(entries.size()));
+  if (rays) {
+    if (entries.size() > rowBegin) {
+      block.rayEnd.push_back(static_cast<uint32_t>(entries.size()));
+      block.rayDirection.push_back((*rays)[entries.back().ray]);
+    }
+    block.rowEnd.push_back(static_cast<uint32_t>(block.rayEnd.size()));
+  } else {
+    block.rowEnd.push_back(static_cast<uint32_t>(entries.size()));
+  }
 }
 
 void GatherOperator::store(const std::vector<GatherEntry>& entries, Block& block) {
@@ -65,6 +91,8 @@ void GatherOperator::store(const std::vector<GatherEntry>& entries, Block& block
       block.colourWeight[e] = entries[e].weight;
   }
   block.rowEnd.shrink_to_fit();
+  block.rayEnd.shrink_to_fit();
+  block.rayDirection.shrink_to_fit();
 }
 
 size_t GatherOperator::entries() const {
@@ -77,13 +105,15 @@ size_t GatherOperator::memoryBytes() const {
   size_t bytes = 0;
   for (const Block& b : blocks_)
     bytes += b.column.capacity() * sizeof(uint32_t) + b.greyWeight.capacity() * sizeof(float) +
-             b.colourWeight.capacity() * sizeof(RGB) + b.rowEnd.capacity() * sizeof(uint32_t);
+             b.colourWeight.capacity() * sizeof(RGB) + b.rowEnd.capacity() * sizeof(uint32_t) +
+             b.rayEnd.capacity() * sizeof(uint32_t) + b.rayDirection.capacity() * sizeof(Vec3);
   return bytes;
 }
 
-void GatherOperator::apply(const std::vector<RGB>& values, std::vector<RGB>& out) const {
-  out.resize(rows_);
-  forEachRow(values, [&](size_t row, const RGB& sum) { out[row] = sum; });
+void GatherOperator::apply(const GatherValues& values, std::vector<RGB>& out) const {
+  const auto count = static_cast<size_t>(coefficients());
+  out.resize(rows_ * count);
+  forEachRow(values, [&](size_t row, const RGB* c) { std::copy(c, c + count, &out[row * count]); });
 }
 
 }  // namespace lvox

@@ -17,29 +17,36 @@
 #include "pointcloud/gather.h"
 #include "src/core/check.h"
 #include "src/core/progress.h"
+#include "src/core/spherical_harmonics.h"
 
 namespace lvox {
 
-// Columns: every radiance a gather ray can pick up, in one flat vector.
+// Columns: every radiance a gather ray can pick up, in one flat vector. Lvoxels and their
+// clusters come last: in anisotropic media their radiance depends on the ray's direction
+// (the columns from firstDirectional() on, which then also have coefficients).
 struct GatherColumns {
   size_t surfels = 0, lvoxels = 0, surfelClusters = 0, lvoxelClusters = 0;
+  int coefficients = 1;  // of the lvoxels' light: 1, or 9 where their radiance has direction
 
   explicit GatherColumns(const PointCloud& cloud);
   uint32_t surfel(uint32_t i, bool front) const { return front ? i : index(surfels + i); }
-  uint32_t lvoxel(uint32_t i) const { return index(2 * surfels + i); }
   uint32_t surfelCluster(uint32_t n, bool front) const {
-    return index(2 * surfels + lvoxels + (front ? 0 : surfelClusters) + n);
+    return index(2 * surfels + (front ? 0 : surfelClusters) + n);
   }
-  uint32_t lvoxelCluster(uint32_t n) const {
-    return index(2 * surfels + lvoxels + 2 * surfelClusters + n);
-  }
-  uint32_t background() const { return index(size() - 1); }
+  uint32_t background() const { return index(2 * surfels + 2 * surfelClusters); }
+  uint32_t firstDirectional() const { return background() + 1; }
+  uint32_t lvoxel(uint32_t i) const { return index(firstDirectional() + i); }
+  uint32_t lvoxelCluster(uint32_t n) const { return index(firstDirectional() + lvoxels + n); }
   size_t size() const { return 2 * surfels + lvoxels + 2 * surfelClusters + lvoxelClusters + 1; }
-  // The cloud's radiance as it stands (call updateAggregates first), in column order.
+  bool directional() const { return coefficients > 1; }
+  // The cloud's radiance as it stands (call updateAggregates first), in column order; for
+  // lvoxels and their clusters, the mean over directions.
   std::vector<RGB> values(const PointCloud& cloud, const RGB& backgroundRadiance) const;
-  // The same into `v`, reusing its storage (passes refill one vector).
-  void valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
-                  std::vector<RGB>& v) const;
+  // The same into `v`, reusing its storage (passes refill one vector); with directional
+  // lvoxels also their source coefficients into `directional` (coefficients per column
+  // from firstDirectional() on).
+  void valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance, std::vector<RGB>& v,
+                  std::vector<RGB>* directional = nullptr) const;
 
  private:
   static uint32_t index(size_t i) { return static_cast<uint32_t>(i); }
@@ -47,14 +54,20 @@ struct GatherColumns {
 
 struct GatherEntry {
   uint32_t column;
+  uint32_t ray;  // the ray of its row (directional operators only; 0 otherwise)
   RGB weight;
 };
 
-// Appends a gather's weights to one row (GatherRayWeights' sink).
+// Appends a gather's weights to one row (GatherRayWeights' sink). With directional
+// columns it also keeps each ray's direction, and the entries say which ray they are of.
 struct GatherRecorder {
   const GatherColumns& columns;
   std::vector<GatherEntry>& entries;
+  std::vector<Vec3>* rays = nullptr;  // directional operators: the row's ray directions
 
+  void beginRay(const Vec3& dir) {
+    if (rays) rays->push_back(dir);
+  }
   void surfel(uint32_t i, bool front, const RGB& w) { add(columns.surfel(i, front), w); }
   void surfelCluster(uint32_t n, bool front, const RGB& w) {
     add(columns.surfelCluster(n, front), w);
@@ -64,8 +77,16 @@ struct GatherRecorder {
   void addBackground(const RGB& w) { add(columns.background(), w); }
   void add(uint32_t column, const RGB& w) {
     LVOX_DCHECK(column < columns.size(), "gather column out of range");
-    if (maxComponent(w) > 0.0f) entries.push_back({column, w});
+    const uint32_t ray = rays ? static_cast<uint32_t>(rays->size()) - 1 : 0;
+    if (maxComponent(w) > 0.0f) entries.push_back({column, ray, w});
   }
+};
+
+// What a pass reads: the cloud's radiance per column, and with directional lvoxels their
+// source coefficients (GatherColumns::valuesInto).
+struct GatherValues {
+  std::vector<RGB> plain;
+  std::vector<RGB> directional;
 };
 
 class GatherOperator {
@@ -78,6 +99,11 @@ class GatherOperator {
   // every part's result is the whole operator's, exactly. `reserve(bytes)`, when given, is
   // told each block's bytes as it is stored (from worker threads) and may throw to stop the
   // build: a memory budget (src/core/memory_budget.h).
+  //
+  // With directional lvoxels (the cloud's lvoxel light has 9 coefficients) a row keeps its
+  // rays apart: each ray's radiance depends on its direction, and a row's result is then
+  // the spherical-harmonic projection of its rays' radiance, coefficients() values per row
+  // (the first is the plain sum).
   template <class RecordRow>
   GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&& record, int part = 0,
                  int parts = 1, const std::function<void(uint64_t)>& reserve = {});
@@ -85,13 +111,23 @@ class GatherOperator {
   size_t rows() const { return rows_; }
   size_t entries() const;
   size_t memoryBytes() const;
-  // out[r] = sum of weight * values[column] over row r.
-  void apply(const std::vector<RGB>& values, std::vector<RGB>& out) const;
-  // sink(r, that sum) for every row r, without a vector of all rows (it is as large as the
-  // cloud): blocks of kRowsPerBlock rows in parallel, a block's rows in order on one thread.
-  // Rows of blocks another part owns get 0.
+  int coefficients() const { return columns_.coefficients; }
+  // The values a pass reads, from the cloud as it stands, into `v`.
+  void valuesInto(const PointCloud& cloud, const RGB& background, GatherValues& v) const {
+    columns_.valuesInto(cloud, background, v.plain,
+                        columns_.directional() ? &v.directional : nullptr);
+  }
+  // out[r * coefficients() + k] = coefficient k of row r (the sum of weight * value over
+  // its entries, projected per ray where directional).
+  void apply(const GatherValues& values, std::vector<RGB>& out) const;
+  void apply(const std::vector<RGB>& values, std::vector<RGB>& out) const {
+    apply(GatherValues{values, {}}, out);
+  }
+  // sink(r, const RGB* coefficients) for every row r, without a vector of all rows (it is
+  // as large as the cloud): blocks of kRowsPerBlock rows in parallel, a block's rows in
+  // order on one thread. Rows of blocks another part owns get 0.
   template <class Sink>
-  void forEachRow(const std::vector<RGB>& values, Sink&& sink) const;
+  void forEachRow(const GatherValues& values, Sink&& sink) const;
   static constexpr size_t kRowsPerBlock = 512;
   size_t blockCount() const { return blocks_.size(); }
   const GatherColumns& columns() const { return columns_; }
@@ -101,17 +137,20 @@ class GatherOperator {
   // colourless extinction (and no media at all) give grey weights, and a float per entry
   // halves the operator, its largest memory item (issue 13: bytes per element).
   struct Block {
-    std::vector<uint32_t> rowEnd;  // entries of row k of the block end at rowEnd[k]
+    std::vector<uint32_t> rowEnd;  // entries (directional: rays) of row k end at rowEnd[k]
     std::vector<uint32_t> column;
     std::vector<float> greyWeight;  // either this ...
     std::vector<RGB> colourWeight;  // ... or this holds the weights
+    std::vector<uint32_t> rayEnd;   // directional: entries of ray j end at rayEnd[j] ...
+    std::vector<Vec3> rayDirection;  // ... and it goes this way
   };
-  static void appendMerged(std::vector<GatherEntry>& row, std::vector<GatherEntry>& entries,
-                           std::vector<uint32_t>& rowEnd);
+  // `rays`: the row's ray directions where the operator keeps rays apart, else null.
+  static void appendMerged(std::vector<GatherEntry>& row, const std::vector<Vec3>* rays,
+                           std::vector<GatherEntry>& entries, Block& block);
   static void store(const std::vector<GatherEntry>& entries, Block& block);
   template <class Weight, class Sink>
-  static void applyBlock(const Block& block, const Weight& weight, size_t firstRow,
-                         const std::vector<RGB>& values, Sink& sink);
+  void applyBlock(const Block& block, const Weight& weight, size_t firstRow,
+                  const GatherValues& values, Sink& sink) const;
   bool owns(size_t block) const { return block % parts_ == part_; }
 
   GatherColumns columns_{PointCloud()};
@@ -139,39 +178,74 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
     const size_t begin = b * kRowsPerBlock, end = std::min(rows, begin + kRowsPerBlock);
     block.rowEnd.reserve(end - begin);
     std::vector<GatherEntry> row, entries;
+    std::vector<Vec3> rays;
     TraversalScratch scratch;
     for (size_t r = begin; r < end; ++r) {
       row.clear();
-      GatherRecorder recorder{columns_, row};
+      rays.clear();
+      std::vector<Vec3>* directions = columns_.directional() ? &rays : nullptr;
+      GatherRecorder recorder{columns_, row, directions};
       record(r, recorder, scratch);
-      appendMerged(row, entries, block.rowEnd);
+      appendMerged(row, directions, entries, block);
     }
     store(entries, block);
     Progress::global().advance(end - begin);
     if (reserve)
       reserve(block.column.size() * sizeof(uint32_t) + block.greyWeight.size() * sizeof(float) +
-              block.colourWeight.size() * sizeof(RGB) + block.rowEnd.size() * sizeof(uint32_t));
+              block.colourWeight.size() * sizeof(RGB) + block.rowEnd.size() * sizeof(uint32_t) +
+              block.rayEnd.size() * sizeof(uint32_t) + block.rayDirection.size() * sizeof(Vec3));
   });
 }
 
 template <class Weight, class Sink>
 void GatherOperator::applyBlock(const Block& block, const Weight& weight, size_t firstRow,
-                                const std::vector<RGB>& values, Sink& sink) {
+                                const GatherValues& values, Sink& sink) const {
+  const std::vector<RGB>& plain = values.plain;
   uint32_t begin = 0;
+  if (!columns_.directional()) {
+    for (size_t k = 0; k < block.rowEnd.size(); ++k) {
+      RGB sum(0.0f);
+      for (uint32_t e = begin; e < block.rowEnd[k]; ++e) sum += plain[block.column[e]] * weight[e];
+      sink(firstRow + k, &sum);
+      begin = block.rowEnd[k];
+    }
+    return;
+  }
+  // Per ray: its radiance, with directional columns evaluated along it, projected on the
+  // spherical harmonics of its direction.
+  const int count = columns_.coefficients;
+  const uint32_t first = columns_.firstDirectional();
+  const RGB* coefficients = values.directional.data();
+  uint32_t ray = 0;
   for (size_t k = 0; k < block.rowEnd.size(); ++k) {
-    RGB sum(0.0f);
-    for (uint32_t e = begin; e < block.rowEnd[k]; ++e) sum += values[block.column[e]] * weight[e];
-    sink(firstRow + k, sum);
-    begin = block.rowEnd[k];
+    RGB out[kShCoefficients];
+    std::fill(out, out + count, RGB(0.0f));
+    for (; ray < block.rowEnd[k]; ++ray) {
+      float yhat[kShCoefficients];
+      shBasis(block.rayDirection[ray], count, yhat);
+      RGB sum(0.0f);
+      for (uint32_t e = begin; e < block.rayEnd[ray]; ++e) {
+        const uint32_t c = block.column[e];
+        const RGB value =
+            c < first ? plain[c]
+                      : shDot(coefficients + static_cast<size_t>(c - first) * count, yhat, count);
+        sum += value * weight[e];
+      }
+      begin = block.rayEnd[ray];
+      for (int j = 0; j < count; ++j) out[j] += sum * yhat[j];
+    }
+    sink(firstRow + k, static_cast<const RGB*>(out));
   }
 }
 
 template <class Sink>
-void GatherOperator::forEachRow(const std::vector<RGB>& values, Sink&& sink) const {
+void GatherOperator::forEachRow(const GatherValues& values, Sink&& sink) const {
   tbb::parallel_for(size_t(0), blocks_.size(), [&](size_t b) {
     if (!owns(b)) {  // another process's rows: zero here, so the parts sum to the whole
+      RGB zeros[kShCoefficients];  // (Imath's colours are not zeroed by default)
+      std::fill(zeros, zeros + kShCoefficients, RGB(0.0f));
       for (size_t r = b * kRowsPerBlock; r < std::min(rows_, (b + 1) * kRowsPerBlock); ++r)
-        sink(r, RGB(0.0f));
+        sink(r, static_cast<const RGB*>(zeros));
       return;
     }
     const Block& block = blocks_[b];

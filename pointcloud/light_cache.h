@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <type_traits>
 #include <vector>
 
 #include "pointcloud/gather.h"
@@ -35,7 +36,10 @@ struct LvoxelLightQuery {
 //   Called once per side (surfaces are two-sided).
 // lvoxelInScatter(const LvoxelLightQuery&) -> RGB: in-scattered radiance from the lights
 //   at the cell centre, integral of phase * L_direct over the sphere [W/(m^2 sr)] (for a
-//   point light: phase * I * Tr / d^2), WITHOUT the sigma_s factor.
+//   point light: phase * I * Tr / d^2), WITHOUT the sigma_s factor: the light's first
+//   coefficient. Or lvoxelInScatter(const LvoxelLightQuery&, RGB* out), which writes all
+//   of the light's coefficients (LvoxelLight::coefficients(); spherical_harmonics.h) of the
+//   incident direct light.
 // Over several ranks (`team`, every rank holding the same cloud), each computes the
 // surfels of its blocks (block b of kDirectBlock surfels on rank b % size) and the sums
 // over the ranks give every rank every surfel's light, exactly as one process computes it.
@@ -69,31 +73,46 @@ void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
   LvoxelLight& light = cloud.mutableLvoxels().light;
   tbb::parallel_for(size_t(0), light.occupiedCount(), [&](size_t i) {
     const auto slot = static_cast<uint32_t>(i);
-    const RGB in = lvoxelInScatter(LvoxelLightQuery{slot, light.centre(slot)});
-    light.directInScatter(slot) = isFinite(in) ? in : RGB(0.0f);
+    RGB* out = light.directInScatter(slot);
+    if constexpr (std::is_invocable_v<const LvoxelFn&, const LvoxelLightQuery&, RGB*>) {
+      lvoxelInScatter(LvoxelLightQuery{slot, light.centre(slot)}, out);
+    } else {
+      out[0] = lvoxelInScatter(LvoxelLightQuery{slot, light.centre(slot)});
+      std::fill(out + 1, out + light.coefficients(), RGB(0.0f));
+    }
+    for (int k = 0; k < light.coefficients(); ++k)
+      if (!isFinite(out[k])) out[k] = RGB(0.0f);
   });
   cloud.updateAggregates();
 }
 
 // Stores per-lvoxel gathered in-scatter as its cell's multiple scattering: the mean over
-// the lvoxels of the cell (one per medium overlapping there). `update(value, next)` writes.
+// the lvoxels of the cell (one per medium overlapping there). `gathered` holds `count`
+// coefficients per lvoxel (the first `count` of the cell's); `update(value, next, k)`
+// writes coefficient k.
 template <class Update>
-void storeMultiScatter(LvoxelSet& l, const RGB* gathered, Update&& update) {
-  std::vector<RGB> sum(l.light.occupiedCount(), RGB(0.0f));
-  std::vector<int> count(sum.size(), 0);
+void storeMultiScatter(LvoxelSet& l, const RGB* gathered, int count, Update&& update) {
+  const auto stride = static_cast<size_t>(count);
+  std::vector<RGB> sum(l.light.occupiedCount() * stride, RGB(0.0f));
+  std::vector<int> lvoxels(l.light.occupiedCount(), 0);
   for (size_t i = 0; i < l.size(); ++i) {
-    sum[l.slot[i]] += gathered[i];
-    ++count[l.slot[i]];
+    for (size_t k = 0; k < stride; ++k) sum[l.slot[i] * stride + k] += gathered[i * stride + k];
+    ++lvoxels[l.slot[i]];
   }
-  for (size_t s = 0; s < sum.size(); ++s)
-    if (count[s] > 0)
-      update(l.light.multiScatter(static_cast<uint32_t>(s)), sum[s] / static_cast<float>(count[s]));
+  for (size_t s = 0; s < lvoxels.size(); ++s) {
+    if (lvoxels[s] == 0) continue;
+    RGB* cell = l.light.multiScatter(static_cast<uint32_t>(s));
+    for (size_t k = 0; k < stride; ++k)
+      update(cell[k], sum[s * stride + k] / static_cast<float>(lvoxels[s]), k);
+  }
 }
 
 // Multiple scattering between lvoxels: `bounces` Jacobi passes, each gathering the
 // in-scattered radiance at every lvoxel centre from the cloud as it stands (surfels'
 // cached radiance plus the lvoxels' current sources) into its cell's multiScatter. One
 // pass adds the light scattered once more by the medium and the light from lit surfels.
+// The gathers trace their rays anew each pass (cacheInterreflection keeps them) and store
+// the isotropic in-scatter only (the first coefficient).
 template <class Phase>
 void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const GatherOptions& options,
                              int bounces, uint64_t seed) {
@@ -109,7 +128,7 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
           gatherInScatter(cloud, l.position[i], Vec3(0, 0, 1), phase, options, rng, scratch);
       next[i] = isFinite(in) ? in : RGB(0.0f);
     });
-    storeMultiScatter(l, next.data(), [](RGB& value, const RGB& v) { value = v; });
+    storeMultiScatter(l, next.data(), 1, [](RGB& value, const RGB& v, size_t) { value = v; });
     cloud.updateAggregates();
   }
 }
@@ -165,8 +184,9 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
         } else {
           const size_t i = row - 2 * n;
           Rng rng(seed, i);
-          // Isotropic cache: the viewer direction is irrelevant for isotropic phases and
-          // is fixed to +z otherwise (the cache stores no directional dependence).
+          // The incident light, uniformly over the sphere: each lvoxel applies its own
+          // phase when it sends its light on (LvoxelSet::sourceCoefficients), so the row
+          // keeps the light's mean, or its spherical harmonics in anisotropic media.
           gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
                               scratch, recorder);
         }
@@ -180,7 +200,11 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   stats.operatorBytes = gathers.memoryBytes();
 
   const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
-  std::vector<RGB> values, gathered, lvoxelGathered(m);
+  // Lvoxel rows gather coefficients() values each: the spherical-harmonic coefficients of
+  // their incident light where lvoxels scatter anisotropically, else its mean.
+  const auto count = static_cast<size_t>(gathers.coefficients());
+  GatherValues values;
+  std::vector<RGB> gathered, lvoxelGathered(m * count);
   // What each pass changed, summed per block of rows, then in block order: deterministic.
   const size_t blocks = gathers.blockCount();
   std::vector<double> blockChange(blocks), blockTotal(blocks);
@@ -192,20 +216,20 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     value = finite;
   };
   // One row's gathered radiance into the cloud (surfel radiance in place: the gathers read
-  // the snapshot `values` only).
-  auto updateRow = [&](size_t row, const RGB& g) {
+  // the snapshot `values` only); a surfel's irradiance is the first coefficient.
+  auto updateRow = [&](size_t row, const RGB* g) {
     const size_t b = row / GatherOperator::kRowsPerBlock;
     if (row < n)
       updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
-                 directFront[row] + s.albedo[row] * g * kInvPi);
+                 directFront[row] + s.albedo[row] * g[0] * kInvPi);
     else if (row < 2 * n)
       updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
-                 directBack[row - n] + s.albedo[row - n] * g * kInvPi);
+                 directBack[row - n] + s.albedo[row - n] * g[0] * kInvPi);
     else
-      lvoxelGathered[row - 2 * n] = g;
+      std::copy(g, g + count, &lvoxelGathered[(row - 2 * n) * count]);
   };
   for (int pass = 0; pass < passes; ++pass) {
-    gathers.columns().valuesInto(cloud, surfelOptions.background, values);  // the snapshot
+    gathers.valuesInto(cloud, surfelOptions.background, values);  // the snapshot
     std::fill(blockChange.begin(), blockChange.end(), 0.0);
     std::fill(blockTotal.begin(), blockTotal.end(), 0.0);
     if (team.size() == 1) {
@@ -218,8 +242,9 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
       stats.exchangeSeconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - exchangeStart).count();
       tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-        const size_t end = std::min(gathered.size(), (b + 1) * GatherOperator::kRowsPerBlock);
-        for (size_t r = b * GatherOperator::kRowsPerBlock; r < end; ++r) updateRow(r, gathered[r]);
+        const size_t end = std::min(gathers.rows(), (b + 1) * GatherOperator::kRowsPerBlock);
+        for (size_t r = b * GatherOperator::kRowsPerBlock; r < end; ++r)
+          updateRow(r, &gathered[r * count]);
       });
     }
     double change = 0.0, total = 0.0;
@@ -227,8 +252,12 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
       change += blockChange[b];
       total += blockTotal[b];
     }
-    storeMultiScatter(l, lvoxelGathered.data(),
-                      [&](RGB& value, const RGB& next) { updateInto(change, total, value, next); });
+    // What the pass changed is measured on the first coefficient (the mean) only.
+    double ignored = 0.0;
+    storeMultiScatter(l, lvoxelGathered.data(), static_cast<int>(count),
+                      [&](RGB& value, const RGB& next, size_t k) {
+                        updateInto(k == 0 ? change : ignored, k == 0 ? total : ignored, value, next);
+                      });
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();
   }

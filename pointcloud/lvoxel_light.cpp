@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "src/core/check.h"
+#include "src/core/spherical_harmonics.h"
 
 namespace lvox {
 
@@ -18,11 +19,19 @@ uint32_t LvoxelLight::occupy(long cell) {
     centre_.push_back(grid_.centre(cell));
     transmittance_.resize(cell_.size() * deltaLights_, RGB(0.0f));
     towardsCamera_.resize(cell_.size() * phases_, RGB(0.0f));
-    areaInScatter_.emplace_back(0.0f);
-    directInScatter_.emplace_back(0.0f);
-    multiScatter_.emplace_back(0.0f);
+    area_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
+    direct_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
+    multi_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
   }
   return static_cast<uint32_t>(s);
+}
+
+void LvoxelLight::setCoefficients(int count) {
+  LVOX_CHECK(count == 1 || count == kShCoefficients, "lvoxel light: 1 or kShCoefficients");
+  coefficients_ = count;
+  area_.assign(cell_.size() * coefficientStride(), RGB(0.0f));
+  direct_.assign(cell_.size() * coefficientStride(), RGB(0.0f));
+  multi_.assign(cell_.size() * coefficientStride(), RGB(0.0f));
 }
 
 long LvoxelLight::slotOf(const Vec3& p) const {
@@ -39,7 +48,7 @@ void LvoxelLight::setChannels(size_t deltaLights, size_t phases) {
 
 bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
   out.transmittance.assign(deltaLights_, RGB(0.0f));
-  out.multiScatter = RGB(0.0f);
+  out.multiScatter.assign(coefficientStride(), RGB(0.0f));
   out.towardsCamera.assign(phases_, RGB(0.0f));
   if (slotOfCell_.empty()) return false;
   long base[3];
@@ -67,7 +76,8 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
     const auto slot = static_cast<size_t>(s);
     const RGB* tr = transmittance_.data() + slot * deltaLights_;
     for (size_t k = 0; k < deltaLights_; ++k) out.transmittance[k] += tr[k] * w;
-    out.multiScatter += multiScatter_[slot] * w;
+    const RGB* multi = multi_.data() + slot * coefficientStride();
+    for (size_t k = 0; k < coefficientStride(); ++k) out.multiScatter[k] += multi[k] * w;
     const RGB* camera = towardsCamera_.data() + slot * phases_;
     for (size_t m = 0; m < phases_; ++m) out.towardsCamera[m] += camera[m] * w;
     weightSum += w;
@@ -75,14 +85,16 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
   if (!(weightSum > 0.0f)) return false;
   const float inv = 1.0f / weightSum;
   for (RGB& t : out.transmittance) t *= inv;
-  out.multiScatter *= inv;
+  for (RGB& c : out.multiScatter) c *= inv;
   for (RGB& c : out.towardsCamera) c *= inv;
   return true;
 }
 
 size_t LvoxelLight::memoryBytes() const {
   return slotOfCell_.size() * sizeof(int32_t) + cell_.size() * (sizeof(long) + sizeof(Vec3)) +
-         (transmittance_.size() + towardsCamera_.size() + 3 * cell_.size()) * sizeof(RGB);
+         (transmittance_.size() + towardsCamera_.size() + area_.size() + direct_.size() +
+          multi_.size()) *
+             sizeof(RGB);
 }
 
 }  // namespace lvox

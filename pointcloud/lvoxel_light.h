@@ -8,9 +8,11 @@
 //     light of the area lights and the environment scattered towards the camera (the
 //     only direction camera rays ever read: the direction from the cell centre to the
 //     pinhole), which keeps anisotropic phases exact for that light;
-//   - the phase-averaged direct in-scatter L_s (integral of phase * L_direct, for the
-//     point cloud's isotropic cache);
-//   - the multiple scattering gathered by the interreflection.
+//   - the direct light as the point cloud sees it, and the multiple scattering gathered
+//     by the interreflection: the incident radiance's spherical-harmonic coefficients
+//     (spherical_harmonics.h: the first is its mean, the isotropic in-scatter L_s), one
+//     per colour where every medium scatters isotropically, nine where one does not, so
+//     that anisotropic lvoxels scatter it with their own phase (docs/pcb.md).
 // The cloud reads inScatter (direct + multiple); camera rays read the blended channels.
 #include <cstdint>
 #include <vector>
@@ -24,7 +26,7 @@ namespace lvox {
 // The light blended at a point between cell centres (LvoxelLight::interpolate).
 struct LvoxelLightSample {
   std::vector<RGB> transmittance;  // one per delta light
-  RGB multiScatter{0.0f};          // isotropic in-scatter of the interreflection
+  std::vector<RGB> multiScatter;   // the interreflection's coefficients (coefficients())
   std::vector<RGB> towardsCamera;  // area lights and environment, one per phase
 };
 
@@ -47,6 +49,10 @@ class LvoxelLight {
   void setChannels(size_t deltaLights, size_t phases);
   size_t deltaLights() const { return deltaLights_; }
   size_t phases() const { return phases_; }
+  // Spherical-harmonic coefficients per colour of the cloud's light: 1 (isotropic) or 9.
+  // Setting it zeroes the direct, area and multiple-scattering coefficients.
+  void setCoefficients(int count);
+  int coefficients() const { return coefficients_; }
   // data() + offset, not &v[offset]: with no delta lights the array is empty.
   RGB* transmittance(uint32_t slot) {
     LVOX_DCHECK(slot < cell_.size(), "lvoxel light slot out of range");
@@ -57,14 +63,22 @@ class LvoxelLight {
     return transmittance_.data() + slot * deltaLights_;
   }
   RGB* towardsCamera(uint32_t slot) { return towardsCamera_.data() + slot * phases_; }
-  // The isotropic in-scatter of the area lights and the environment (their integral of
-  // L dw over 4 pi), for the cloud's phase-averaged cache.
-  RGB& areaInScatter(uint32_t slot) { return areaInScatter_[slot]; }
-  RGB& directInScatter(uint32_t slot) { return directInScatter_[slot]; }
-  RGB& multiScatter(uint32_t slot) { return multiScatter_[slot]; }
-  const RGB& multiScatter(uint32_t slot) const { return multiScatter_[slot]; }
-  // L_s for the point cloud: direct + multiple scattering.
-  RGB inScatter(uint32_t slot) const { return directInScatter_[slot] + multiScatter_[slot]; }
+  // The incident light of the area lights and the environment as the cloud sees it
+  // (coefficients() values; the first is its integral of L dw over 4 pi).
+  RGB* areaInScatter(uint32_t slot) { return area_.data() + slot * coefficientStride(); }
+  // The direct light's coefficients (delta lights and the area ones), and the multiple
+  // scattering's (the interreflection's).
+  RGB* directInScatter(uint32_t slot) { return direct_.data() + slot * coefficientStride(); }
+  const RGB* directInScatter(uint32_t slot) const {
+    return direct_.data() + slot * coefficientStride();
+  }
+  RGB* multiScatter(uint32_t slot) { return multi_.data() + slot * coefficientStride(); }
+  const RGB* multiScatter(uint32_t slot) const { return multi_.data() + slot * coefficientStride(); }
+  // L_s's coefficient k for the point cloud: direct + multiple scattering.
+  RGB inScatter(uint32_t slot, int k = 0) const {
+    const size_t i = slot * coefficientStride() + static_cast<size_t>(k);
+    return direct_[i] + multi_[i];
+  }
 
   // Over several ranks that each filled the direct light (transmittance, towards the
   // camera, area in-scatter) of some cells and left the others zero: the sums over the
@@ -72,7 +86,7 @@ class LvoxelLight {
   void sumDirectOverRanks(Collective& team) {
     team.sum(floatsOf(transmittance_));
     team.sum(floatsOf(towardsCamera_));
-    team.sum(floatsOf(areaInScatter_));
+    team.sum(floatsOf(area_));
   }
 
   // Camera rays: the light at p, blended trilinearly from the 8 surrounding cell centres
@@ -91,7 +105,9 @@ class LvoxelLight {
   std::vector<Vec3> centre_;
   std::vector<RGB> transmittance_;  // slot-major, deltaLights_ per slot
   std::vector<RGB> towardsCamera_;  // slot-major, phases_ per slot
-  std::vector<RGB> areaInScatter_, directInScatter_, multiScatter_;
+  int coefficients_ = 1;
+  size_t coefficientStride() const { return static_cast<size_t>(coefficients_); }
+  std::vector<RGB> area_, direct_, multi_;  // slot-major, coefficients_ per slot
 };
 
 }  // namespace lvox

@@ -5,11 +5,13 @@
 // the lvoxels a ray crosses equals the optical depth of the averaged medium (see
 // docs/pointcloud.md, "slab transmittance").
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "pointcloud/lvoxel_light.h"
 #include "src/core/math.h"
+#include "src/core/spherical_harmonics.h"
 
 namespace lvox {
 
@@ -22,6 +24,11 @@ struct LvoxelSet {
   // The medium's emission source sigma_a * Le averaged over the cube (1/unit x radiance),
   // or empty when no medium the lvoxels were sampled from emits (then 0 for each).
   std::vector<RGB> emission;
+  // Anisotropic media (empty when every lvoxel scatters isotropically): the Legendre
+  // moments chi_1.. of the lvoxel's phase function with its forward peak removed
+  // (delta-M: that peak is folded into sigma_s, which the renderer has reduced by it;
+  // docs/pcb.md). They scale bands 1 and 2 of the light the lvoxel scatters.
+  std::vector<std::array<float, kShBands - 1>> phaseMoments;
   // The light on the lvoxels' cells: in-scattered radiance L_s = integral of phase * L_i
   // over the sphere, W/(m^2 sr); the lvoxel's volume source is sigma_s * L_s.
   LvoxelLight light;
@@ -33,19 +40,31 @@ struct LvoxelSet {
     return e * e * e;
   }
   RGB inScatter(size_t i) const { return light.inScatter(slot[i]); }
+  // Coefficients of the light the lvoxel sends out (light.coefficients() of them,
+  // spherical_harmonics.h): band l of its in-scatter times its phase's moment and
+  // sigma_s / sigma_t, plus its emission source / sigma_t in the first. The radiance it
+  // sends along a gather ray of direction wi (from the receiver to the lvoxel) is
+  // sum c_k Yhat_k(wi).
+  void sourceCoefficients(size_t i, RGB* out) const;
   // n lvoxels filled by hand (tests, benchmarks): each gets a light cell of its own, on a
   // grid that is only an index (n x 1 x 1 unit cells), not their positions.
   void resize(size_t n);
-  // Radiance the lvoxel sends along any ray (isotropic source): (sigma_s L_s + its emission
-  // source) / sigma_t. The emission is what lights the scene from an emissive medium.
+  // Radiance the lvoxel sends averaged over directions (all of it where it scatters
+  // isotropically): (sigma_s L_s + its emission source) / sigma_t. The emission is what
+  // lights the scene from an emissive medium.
   RGB sourceRadiance(size_t i) const;
+  // The radiance it sends along a gather ray of direction wi, given Yhat(wi).
+  RGB sourceRadiance(size_t i, const float* yhat) const;
   // Appends `other`'s lvoxels; their cells join this set's light (same grid required, or
   // this set empty). Light already cached in `other` is not carried over.
   void append(const LvoxelSet& other);
   static constexpr size_t bytesPerElement() {
     return sizeof(Vec3) + sizeof(float) + 2 * sizeof(RGB) + sizeof(uint32_t);
   }
-  size_t memoryBytes() const { return size() * bytesPerElement() + emission.size() * sizeof(RGB); }
+  size_t memoryBytes() const {
+    return size() * bytesPerElement() + emission.size() * sizeof(RGB) +
+           phaseMoments.size() * sizeof(phaseMoments[0]);
+  }
   void permute(const std::vector<uint32_t>& order);
 };
 

@@ -9,6 +9,7 @@
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/octree_node.h"
 #include "pointcloud/surfels.h"
+#include "src/core/spherical_harmonics.h"
 
 namespace lvox {
 
@@ -45,6 +46,12 @@ class PointCloud {
   const std::vector<OctreeNode>& nodes() const { return nodes_; }
   const std::vector<SurfelCluster>& surfelClusters() const { return surfelClusters_; }
   const std::vector<LvoxelCluster>& lvoxelClusters() const { return lvoxelClusters_; }
+  // Node n's lvoxel cluster's source coefficients (lvoxels().light.coefficients() of them;
+  // with one, its sourceRadiance).
+  const RGB* lvoxelClusterCoefficients(uint32_t n) const {
+    return lvoxelClusterCoefficients_.empty() ? &lvoxelClusters_[n].sourceRadiance
+                                              : &lvoxelClusterCoefficients_[n * kShCoefficients];
+  }
   bool hasSurfelClusters() const { return keepSurfelClusters_; }
   bool empty() const { return nodes_.empty(); }
 
@@ -91,6 +98,7 @@ class PointCloud {
   std::vector<uint32_t> levelBegin_;  // nodes of depth d are [levelBegin_[d], levelBegin_[d+1])
   std::vector<SurfelCluster> surfelClusters_;
   std::vector<LvoxelCluster> lvoxelClusters_;
+  std::vector<RGB> lvoxelClusterCoefficients_;  // kShCoefficients per node, directional only
   std::vector<OctreeChildren> childBlocks_;
   std::vector<WideChildren> wideBlocks_;
   std::vector<TraversalNode> traversalNodes_;

@@ -345,7 +345,7 @@ PointCloudMemory PointCloud::memory() const {
   m.octreeBytes = nodes_.size() * sizeof(OctreeNode) + cells_.size() * sizeof(Bounds3) +
                   surfelClusters_.size() * sizeof(SurfelCluster) +
                   lvoxelClusters_.size() * sizeof(LvoxelCluster) +
-                  levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
+                  lvoxelClusterCoefficients_.size() * sizeof(RGB) + levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
   return m;
 }
 

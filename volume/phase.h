@@ -34,8 +34,37 @@ struct PhaseFunction {
     p.kind = g == 0.0f ? PhaseKind::Isotropic : kind;
     p.g = p.kind == PhaseKind::Isotropic ? 0.0f : g;
     if (p.kind == PhaseKind::Schlick) p.k = 1.55f * g - 0.55f * g * g * g;
+    for (int l = 0; l <= kMaxMoment; ++l) p.moments[l] = p.computeMoment(l);
     return p;
   }
+
+  // Legendre moment chi_l = 2 pi * integral over [-1, 1] of p(mu) P_l(mu) dmu, l = 0..4:
+  // 1, the mean cosine, ... The phase's expansion is p = sum (2l + 1) / (4 pi) chi_l P_l,
+  // and it scales band l of the spherical harmonics of the light it scatters
+  // (spherical_harmonics.h). Henyey-Greenstein: g^l exactly.
+  float moment(int l) const { return moments[l]; }
+
+  // The phase as a forward peak and a smooth rest, for a light field carried in bands
+  // l < L (delta-M, Wiscombe 1977): a delta peak of weight f = chi_L is light that goes
+  // on as if unscattered, and the rest, (p - f delta) / (1 - f), has the moments
+  // (chi_l - f) / (1 - f). Its band-limited expansion stays nearly positive where the
+  // plain one does not (Henyey-Greenstein at g = 0.8, three bands: the plain series
+  // 1 + 3 g mu + 5 g^2 P_2(mu) reaches -0.6 at mu = 0, the rest's -0.054 at mu = -0.45).
+  // Isotropic: f = 0, the rest is the phase itself.
+  static constexpr int kMaxMoment = 4;
+  struct Truncated {
+    float forward = 0.0f;
+    float moment[kMaxMoment] = {1.0f, 0.0f, 0.0f, 0.0f};  // of the rest, bands below `bands`
+  };
+  // For a light field carried in `bands` bands (l < bands <= kMaxMoment).
+  Truncated truncated(int bands) const {
+    Truncated t;
+    t.forward = std::clamp(moments[bands], 0.0f, 0.999f);
+    const float rest = 1.0f - t.forward;
+    for (int l = 1; l < bands; ++l) t.moment[l] = (moments[l] - t.forward) / rest;
+    return t;
+  }
+  float moments[kMaxMoment + 1] = {1.0f, 0.0f, 0.0f, 0.0f, 0.0f};  // chi_0.., set by make()
 
   float eval(float cosTheta) const {
     constexpr float inv4Pi = 1.0f / (4.0f * kPi);
@@ -77,6 +106,34 @@ struct PhaseFunction {
     const Frame frame(wIn);
     pdf = eval(cosTheta);
     return frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
+  }
+
+  // chi_l: Henyey-Greenstein g^l; Schlick by quadrature (cold path: make() only).
+  float computeMoment(int l) const {
+    if (l == 0) return 1.0f;
+    switch (kind) {
+      case PhaseKind::Isotropic:
+        return 0.0f;
+      case PhaseKind::HenyeyGreenstein:
+        return static_cast<float>(std::pow(static_cast<double>(g), l));
+      case PhaseKind::Schlick:
+        break;
+    }
+    // Midpoint rule in mu; Schlick's peak at mu = 1 has width about 1 - k, so 2^16 cells
+    // resolve it to well under 1e-6 for k up to 0.99.
+    constexpr int kCells = 1 << 16;
+    double sum = 0.0;
+    for (int i = 0; i < kCells; ++i) {
+      const double mu = -1.0 + (i + 0.5) * (2.0 / kCells);
+      const double mu2 = mu * mu;
+      const double legendre = l == 1   ? mu
+                              : l == 2 ? 0.5 * (3.0 * mu2 - 1.0)
+                              : l == 3 ? 0.5 * mu * (5.0 * mu2 - 3.0)
+                                       : (35.0 * mu2 * mu2 - 30.0 * mu2 + 3.0) / 8.0;
+      const double d = 1.0 - k * mu;
+      sum += (1.0 - static_cast<double>(k) * k) / (d * d) * legendre;
+    }
+    return static_cast<float>(0.5 * sum * (2.0 / kCells));  // 2 pi / (4 pi) = 1/2
   }
 };
 

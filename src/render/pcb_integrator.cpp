@@ -172,7 +172,6 @@ void removeBuried(const RenderContext& ctx, float reach, SurfelSet& surfels, Col
 // lvoxel cells (their light, pcb_media.h).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
                  rte::SolveCounts& counts, Collective& team, Report& report) {
-  const World& world = ctx.world;
   PointCloud& cloud = *cache.cloud;
   LvoxelLight& lvoxelLight = cloud.mutableLvoxels().light;
   if (cache.lvoxels) {
@@ -192,13 +191,17 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
                 (static_cast<uint64_t>(q.index) << 1) |
                     (dot(q.normal, cloud.surfels().normal[q.index]) < 0));
         rte::SolveCounts& local = perThread.local();
-        auto throughMedia = [&](const Ray& shadow) { return volume.transmittance(shadow, local); };
+        auto throughMedia = [&](const Ray& shadow) {
+          return volume.transmittance(shadow, local, cache.reducedShadows);
+        };
         uint64_t rays = 0;
-        const Material& m = world.materials[world.mesh.triangleMaterial[q.triangle]];
-        return m.emission + surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
+        // Reflected light only: an emissive surface's own emission reaches every receiver
+        // as an area light (surfaceDirect, the lvoxels' area samples), so a surfel that
+        // also carried it would hand it out a second time through every gather.
+        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
       },
-      [&](const LvoxelLightQuery& q) {
-        return phaseAveragedDirect(ctx.lights, lvoxelLight, q.slot);
+      [&](const LvoxelLightQuery& q, RGB* out) {
+        cloudDirectLight(ctx.lights, lvoxelLight, q.slot, out);
       },
       team);
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
@@ -253,13 +256,18 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_sampling");
     size_t sampled = 0;
+    // Anisotropic media make directional lvoxels when the cloud carries multiple
+    // scattering (pcb_media.h); with no bounces they hold the exact single scattering.
+    const bool directional = settings.bounces > 0 && anisotropicLvoxels(volume.media());
     lvoxels = sampleSceneLvoxels(volume.media(),
                                  lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
-                                 settings.lvoxelSamples, seed, ctx.lights, team, &sampled);
+                                 settings.lvoxelSamples, seed, ctx.lights, directional, team,
+                                 &sampled);
     report.work["lvoxels_sampled"] += sampled;
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
+    cache.reducedShadows = cache.lvoxels && lvoxels.light.coefficients() > 1;
     checkLvoxelMemory(ctx, settings, lvoxels.size(), sceneFile);
   }
   {
@@ -338,7 +346,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       uint64_t shadowRays = 0;
       auto throughMedia = [&](const Ray& shadow) {
-        return volume.transmittance(shadow, solveCounts);
+        return volume.transmittance(shadow, solveCounts, cache.reducedShadows);
       };
       // The cloud carries irradiance; the texture multiplies it here, at the pixel's own
       // footprint, so texture detail is never blurred to the surfel spacing.

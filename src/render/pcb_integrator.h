@@ -25,6 +25,9 @@ namespace lvox {
 struct PointBasedCache {
   std::unique_ptr<PointCloud> cloud;  // its lvoxels hold their light (LvoxelLight)
   bool lvoxels = false;               // pcb mode in a scene with media
+  // Directional lvoxels (anisotropic media): light from the sources reaches surfaces
+  // through the media without their phases' forward peaks (pcb_media.h).
+  bool reducedShadows = false;
   IndirectGrid gathers;               // final gathers at a reduced rate; empty: at every camera hit
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };

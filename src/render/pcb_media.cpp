@@ -10,6 +10,7 @@
 #include "pointcloud/lvoxel_sampler.h"
 #include "src/core/error.h"
 #include "src/core/progress.h"
+#include "src/core/spherical_harmonics.h"
 #include "src/render/cloud_exchange.h"
 
 namespace lvox {
@@ -46,19 +47,40 @@ std::vector<Bounds3> activeBoxes(const Medium& m) {
   return {m.bounds};
 }
 
-// Visibility x transmittance from x towards a light sample.
+// Visibility x transmittance from x towards a light sample (`reduced`: without the
+// media's forward peaks, VolumeTransport::transmittance).
 RGB lightTransmittance(const RenderContext& ctx, const VolumeTransport& volume, const Vec3& x,
-                       const Vec3& wi, float distance, rte::SolveCounts& counts) {
+                       const Vec3& wi, float distance, bool reduced, rte::SolveCounts& counts) {
   Ray shadow;
   shadow.origin = x;
   shadow.dir = wi;
   shadow.tmin = 0.0f;
   shadow.tmax = std::isinf(distance) ? kInf : distance * (1.0f - 1e-4f);
   if (ctx.tracer.occluded(shadow)) return RGB(0.0f);
-  return volume.transmittance(shadow, counts);
+  return volume.transmittance(shadow, counts, reduced);
+}
+
+// Anisotropic media give the cloud directional lvoxels (delta-M, docs/pcb.md): each keeps
+// the moments of its phase without the forward peak, and its sigma_s loses the peak's
+// share f. The cloud's light then carries nine coefficients per colour.
+void reduceForwardPeaks(const MediaSet& media, std::vector<LvoxelSet>& perMedium) {
+  for (size_t m = 0; m < perMedium.size(); ++m) {
+    const PhaseFunction::Truncated t = media[m].phase.truncated(kShBands);
+    LvoxelSet& l = perMedium[m];
+    std::array<float, kShBands - 1> moments;
+    for (int b = 1; b < kShBands; ++b) moments[static_cast<size_t>(b - 1)] = t.moment[b];
+    l.phaseMoments.assign(l.size(), moments);
+    for (RGB& sigmaS : l.sigmaS) sigmaS *= 1.0f - t.forward;
+  }
 }
 
 }  // namespace
+
+bool anisotropicLvoxels(const MediaSet& media) {
+  for (const Medium& m : media.media())
+    if (m.phase.moment(1) != 0.0f) return true;
+  return false;
+}
 
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile) {
   const Vec3 d = media.bounds().diagonal();
@@ -75,8 +97,8 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 }
 
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             uint64_t seed, const LightSet& lights, Collective& team,
-                             size_t* sampled) {
+                             uint64_t seed, const LightSet& lights, bool directional,
+                             Collective& team, size_t* sampled) {
   LvoxelSettings settings;
   settings.spacing = spacing;
   settings.samplesPerAxis = samplesPerAxis;
@@ -92,9 +114,11 @@ LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPe
   }
   if (sampled) *sampled = mine;
   if (team.distributed()) perMedium = allgatherLvoxels(perMedium, team);
+  if (directional) reduceForwardPeaks(media, perMedium);
   LvoxelSet all;
   for (const LvoxelSet& part : perMedium) all.append(part);
   all.light.setChannels(lights.lights().size(), media.size());
+  if (directional) all.light.setCoefficients(kShCoefficients);
   return all;
 }
 
@@ -106,6 +130,9 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   const auto ranks = static_cast<size_t>(team.size());
   const auto rank = static_cast<size_t>(team.rank());
   auto mine = [&](size_t slot) { return (slot / kLvoxelDirectBlock) % ranks == rank; };
+  // Directional lvoxels take the light that reaches them without the forward peaks
+  // (delta-M): what the peak scatters goes on with the direct light.
+  const bool reduced = light.coefficients() > 1;
   tbb::combinable<rte::SolveCounts> perThread;
   Progress::global().addWork(light.occupiedCount());
   // Cells not this rank's keep the zeros setChannels and occupy gave them.
@@ -122,24 +149,28 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
       const Light& l = lights.lights()[k];
       const Vec3 wi = l.type == LightType::Directional ? -l.direction : s.wi;
       const float distance = l.type == LightType::Directional ? kInf : length(l.position - x);
-      transmittance[k] =
-          distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance, local) : RGB(1.0f);
+      transmittance[k] = distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance,
+                                                              reduced, local)
+                                         : RGB(1.0f);
     }
     Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
     // Samples are weighted 1/pdf already: their sum estimates the integral of L dw, and
     // with each medium's phase towards the camera, its in-scatter along camera rays.
     const auto cell = static_cast<uint32_t>(slot);
     const Vec3 viewDir = normalize(x - ctx.world.camera.position);
-    RGB isotropic(0.0f);
     RGB* towardsCamera = light.towardsCamera(cell);
+    RGB* area = light.areaInScatter(cell);  // (1 / 4 pi) sum of L Yhat_k: mean, harmonics
+    const int count = light.coefficients();
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
-      const RGB arriving = s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, local);
-      isotropic += arriving;
+      const RGB arriving =
+          s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, reduced, local);
       const float cosTheta = dot(s.wi, viewDir);
       for (size_t m = 0; m < media.size(); ++m)
         towardsCamera[m] += arriving * media[m].phase.eval(cosTheta);
+      float yhat[kShCoefficients];
+      shBasis(s.wi, count, yhat);
+      for (int k = 0; k < count; ++k) area[k] += arriving * (yhat[k] * kInv4Pi);
     });
-    light.areaInScatter(cell) = isotropic * kInv4Pi;
   });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
   if (team.distributed()) light.sumDirectOverRanks(team);
@@ -149,20 +180,27 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   return lit;
 }
 
-RGB phaseAveragedDirect(const LightSet& lights, LvoxelLight& light, uint32_t slot) {
+void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot, RGB* out) {
   const RGB* transmittance = light.transmittance(slot);
-  RGB sum = light.areaInScatter(slot);
+  const RGB* area = light.areaInScatter(slot);
+  const int count = light.coefficients();
+  std::copy(area, area + count, out);
   for (size_t k = 0; k < lights.lights().size(); ++k) {
     const LightSample s = lights.sampleDelta(lights.lights()[k], light.centre(slot));
-    sum += s.radiance * transmittance[k] * kInv4Pi;
+    const RGB arriving = s.radiance * transmittance[k] * kInv4Pi;
+    float yhat[kShCoefficients];
+    shBasis(s.wi, count, yhat);
+    for (int c = 0; c < count; ++c) out[c] += arriving * yhat[c];
   }
-  return sum;
 }
 
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
                                   const MediumCoefficients* perMedium) const {
   thread_local LvoxelLightSample cached;
   if (!light.interpolate(x, cached)) return RGB(0.0f);
+  const int count = light.coefficients();
+  float yhat[kShCoefficients];
+  shBasis(viewDir, count, yhat);  // light leaving towards the camera came from behind x
   const size_t deltaCount = lights.lights().size();
   // Light samples of the delta lights at x: exact direction, falloff and spot profile.
   thread_local std::vector<LightSample> samples;
@@ -172,7 +210,15 @@ RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
   for (size_t m = 0; m < media.size(); ++m) {
     if (isBlack(perMedium[m].sigmaS)) continue;
     const PhaseFunction& phase = media[m].phase;
-    RGB incident = cached.multiScatter + cached.towardsCamera[m];
+    // The cloud's multiple scattering, scattered towards the camera with the medium's own
+    // phase: its full moments, since camera rays see the unreduced medium (the forward
+    // peak's share f of sigma_s sends on the light that arrives from straight behind,
+    // f + (1 - f) chi*_l = chi_l).
+    RGB multiple[kShCoefficients];
+    multiple[0] = cached.multiScatter[0];  // (the mean: moment 1)
+    for (int c = 1; c < count; ++c)
+      multiple[c] = cached.multiScatter[static_cast<size_t>(c)] * phase.moment(shBand(c));
+    RGB incident = cached.towardsCamera[m] + shDot(multiple, yhat, count);
     for (size_t k = 0; k < deltaCount; ++k) {
       if (isBlack(samples[k].radiance)) continue;
       incident +=

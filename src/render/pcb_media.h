@@ -5,10 +5,15 @@
 //   - per point, spot or directional light, the fraction of its light that reaches the
 //     cell centre (visibility x transmittance), so camera rays can apply the light's
 //     exact falloff, spot profile and phase function and interpolate only the shadowing;
-//   - from the environment and area lights, the in-scattered radiance for an isotropic
-//     phase (the cache keeps no direction).
+//   - from the environment and area lights, the light scattered towards the camera with
+//     each medium's phase, and their incident light for the cloud.
 // Phase 2: the in-scatter source of camera rays read from that light, plus the multiple
 // scattering the lvoxels gathered from the cloud.
+// Anisotropic media (anisotropicLvoxels) make the lvoxels directional (delta-M,
+// docs/pcb.md): the light is carried in spherical harmonics, each lvoxel scatters it with
+// its phase less the forward peak, and all light from the sources reaches the lvoxels, the
+// surfels and the camera's surface hits through the media without their forward peaks
+// (VolumeTransport::transmittance's `reduced`): the peak's light goes on with it.
 #include <vector>
 
 #include "pointcloud/lvoxels.h"
@@ -19,6 +24,10 @@
 
 namespace lvox {
 
+// Whether some medium's phase is not isotropic (then the lvoxels of a cloud with multiple
+// scattering are directional).
+bool anisotropicLvoxels(const MediaSet& media);
+
 // The lvoxel spacing: `requested` (pointcloud.lvoxel_spacing of `sceneFile`) when
 // positive, else 1/48 of the largest extent of the media.
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile);
@@ -27,9 +36,11 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 // light has a transmittance channel per delta light of `lights`. Over several ranks
 // (`team`), rank r samples the slices of cells k with k mod N = r and the shares are
 // exchanged (cloud_exchange.h); every rank ends with the one-process set. `sampled`
-// receives the number of lvoxels this rank sampled.
+// receives the number of lvoxels this rank sampled. `directional`: the lvoxels scatter
+// with their media's phases (anisotropicLvoxels, and a cloud that carries multiple
+// scattering: without it the lvoxels hold the exact single scattering).
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             uint64_t seed, const LightSet& lights,
+                             uint64_t seed, const LightSet& lights, bool directional,
                              Collective& team = singleProcess(), size_t* sampled = nullptr);
 
 // Fills every occupied cell with its direct light (see above). Over several ranks
@@ -41,9 +52,12 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
                               LvoxelLight& light, rte::SolveCounts& counts,
                               Collective& team = singleProcess());
 
-// In-scattered radiance at a cell for the point cloud's isotropic cache: the phase-averaged
-// direct light, sum over delta lights of L Tr / (4 pi) plus the area lights' in-scatter.
-RGB phaseAveragedDirect(const LightSet& lights, LvoxelLight& light, uint32_t slot);
+// The direct light at a cell as the point cloud sees it, light.coefficients() values into
+// `out` (spherical_harmonics.h): the area lights' coefficients plus, per delta light,
+// L Tr' Yhat(wi) / (4 pi). The first is the phase-averaged in-scatter; Tr' is the
+// transmittance without the forward peaks (LvoxelLight::forwardShare; Tr in isotropic
+// media).
+void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot, RGB* out);
 
 // The in-scatter source along camera rays from the lvoxels' light (the ScatterSource of
 // VolumeTransport::radianceWith).

@@ -14,8 +14,9 @@ using Channels = rte::Channels<float>;
 struct HeterogeneousExtinction {
   const MediaSet& media;
   const Ray& ray;
+  bool reduced = false;
   rte::MediumSample<float> eval(float t) const {
-    const RGB sigmaT = media.heterogeneousSigmaT(ray.at(t));
+    const RGB sigmaT = media.heterogeneousSigmaT(ray.at(t), reduced);
     return {{sigmaT.x, sigmaT.y, sigmaT.z}, Channels(0.0f)};
   }
 };
@@ -76,14 +77,14 @@ SegmentPlan VolumeTransport::radiancePlan(const Ray& ray, float t0, float t1, fl
   return {method_, segmentSettings(ray, t0, t1, jitter)};
 }
 
-RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts) const {
+RGB VolumeTransport::transmittance(const Ray& ray, rte::SolveCounts& counts, bool reduced) const {
   if (media_.empty()) return RGB(1.0f);
   const float tmax = std::isinf(ray.tmax) ? 1e30f : ray.tmax;
-  RGB tau = media_.homogeneousOpticalDepth(ray, ray.tmin, tmax);
+  RGB tau = media_.homogeneousOpticalDepth(ray, ray.tmin, tmax, reduced);
   if (media_.anyHeterogeneous()) {
     std::vector<std::pair<float, float>> hetero;
     media_.heterogeneousIntervals(ray, ray.tmin, tmax, hetero);
-    const HeterogeneousExtinction problem{media_, ray};
+    const HeterogeneousExtinction problem{media_, ray, reduced};
     for (const auto& [a, b] : hetero) {
       const SegmentPlan plan = auto_ ? auto_->transmittance(ray, a, b)
                                      : SegmentPlan{method_, segmentSettings(ray, a, b, 0.5f)};

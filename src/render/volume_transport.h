@@ -40,8 +40,10 @@ class VolumeTransport {
   const MediaSet& media() const { return media_; }
 
   // Fraction of light surviving along [ray.tmin, ray.tmax]: analytic through homogeneous
-  // media, the selected solver (T' = -sigma_t T) through heterogeneous ones.
-  RGB transmittance(const Ray& ray, rte::SolveCounts& counts) const;
+  // media, the selected solver (T' = -sigma_t T) through heterogeneous ones. `reduced`:
+  // through the media without their phases' forward peaks (MediaSet::heterogeneousSigmaT),
+  // the light pcb's anisotropic lvoxels treat as not scattered.
+  RGB transmittance(const Ray& ray, rte::SolveCounts& counts, bool reduced = false) const;
 
   // Radiance reaching ray.origin along [0, tEnd] when `background` arrives from tEnd,
   // with emission and exact single scattering (shadow rays at every medium evaluation).

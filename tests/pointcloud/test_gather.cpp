@@ -218,15 +218,15 @@ TEST(Gather, MultipleScatteringCacheFillsLvoxels) {
   cacheMultipleScattering(pc, IsotropicPhase{}, o, 1, 3);
   const LvoxelLight& light = pc.lvoxels().light;
   std::vector<RGB> one;
-  for (uint32_t s = 0; s < light.occupiedCount(); ++s) one.push_back(light.multiScatter(s));
+  for (uint32_t s = 0; s < light.occupiedCount(); ++s) one.push_back(light.multiScatter(s)[0]);
   cacheMultipleScattering(pc, IsotropicPhase{}, o, 2, 3);
   ASSERT_GT(one.size(), 0u);
   for (uint32_t s = 0; s < one.size(); ++s) {
     EXPECT_GT(one[s].x, 0.2f);
     EXPECT_LT(one[s].x, 1.0f);
-    EXPECT_GE(light.multiScatter(s).x, one[s].x - 1e-5f);
+    EXPECT_GE(light.multiScatter(s)[0].x, one[s].x - 1e-5f);
     // Non-absorbing medium inside walls of radiance 1: the fixed point is 1.
-    EXPECT_LE(light.multiScatter(s).x, 1.0f + 1e-4f);
+    EXPECT_LE(light.multiScatter(s)[0].x, 1.0f + 1e-4f);
   }
 }
 

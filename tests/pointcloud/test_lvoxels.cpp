@@ -164,7 +164,7 @@ TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
   const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
   PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
   LvoxelLight& light = cloud.mutableLvoxels().light;
-  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s) = RGB(1.0f);
+  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
   cloud.updateAggregates();
   GatherOptions o;
   o.samples = 64;

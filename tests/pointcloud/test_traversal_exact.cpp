@@ -196,7 +196,7 @@ TEST(TraversalExact, AggregateUpdatesKeepTheLayoutsBounds) {
   PointCloud pc = randomCloud(3, 2000, 2000);
   ASSERT_TRUE(pc.traversalLayoutMatchesNodes());
   LvoxelLight& light = pc.mutableLvoxels().light;
-  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s) = RGB(2.0f);
+  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(2.0f);
   std::fill(pc.mutableSurfels().radianceFront.begin(), pc.mutableSurfels().radianceFront.end(),
             RGB(3.0f));
   pc.updateAggregates();

@@ -1,5 +1,7 @@
 #include "volume/media/media_set.h"
 
+#include "src/core/spherical_harmonics.h"
+
 #include <algorithm>
 
 #include "src/core/error.h"
@@ -127,21 +129,26 @@ MediumCoefficients MediaSet::at(const Vec3& p) const {
   return sum;
 }
 
-RGB MediaSet::heterogeneousSigmaT(const Vec3& p) const {
+RGB MediaSet::heterogeneousSigmaT(const Vec3& p, bool reduced) const {
   RGB sigmaT(0.0f);
-  for (const Medium& m : media_)
-    if (!m.homogeneous() && m.bounds.contains(p)) sigmaT += m.at(p).sigmaT();
+  for (const Medium& m : media_) {
+    if (m.homogeneous() || !m.bounds.contains(p)) continue;
+    const MediumCoefficients c = m.at(p);
+    sigmaT += reduced ? c.sigmaT() - c.sigmaS * m.phase.truncated(kShBands).forward : c.sigmaT();
+  }
   return sigmaT;
 }
 
-RGB MediaSet::homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax) const {
+
+RGB MediaSet::homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax, bool reduced) const {
   RGB tau(0.0f);
   thread_local std::vector<std::pair<float, float>> spans;
   for (const Medium& m : media_) {
     if (!m.homogeneous()) continue;
     spans.clear();
     m.intervals(ray, tmin, tmax, spans);
-    for (const auto& [a, b] : spans) tau += m.majorant() * (b - a);
+    const RGB sigmaT = reduced ? m.majorant() - m.sigmaS * m.phase.truncated(kShBands).forward : m.majorant();
+    for (const auto& [a, b] : spans) tau += sigmaT * (b - a);
   }
   return tau;
 }

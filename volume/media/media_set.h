@@ -29,7 +29,9 @@ class MediaSet {
   // Sum of the coefficients of every medium at p.
   MediumCoefficients at(const Vec3& p) const;
   // Sum of sigma_t of the heterogeneous media at p (homogeneous ones are done analytically).
-  RGB heterogeneousSigmaT(const Vec3& p) const;
+  // `reduced`: of sigma_t - f sigma_s, each medium's extinction without its phase's forward
+  // peak f (PhaseFunction::truncated; pcb's anisotropic lvoxels, docs/pcb.md).
+  RGB heterogeneousSigmaT(const Vec3& p, bool reduced = false) const;
   bool anyHeterogeneous() const { return !allHomogeneous(); }
   bool anyEmissive() const {
     for (const Medium& m : media_)
@@ -37,7 +39,7 @@ class MediaSet {
     return false;
   }
   // Optical depth of the homogeneous media along [tmin, tmax] of the ray (exact).
-  RGB homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax) const;
+  RGB homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax, bool reduced = false) const;
   // Sorted, merged t-intervals in [tmin, tmax] where a heterogeneous medium may be non-zero.
   void heterogeneousIntervals(const Ray& ray, float tmin, float tmax,
                               std::vector<std::pair<float, float>>& out) const;

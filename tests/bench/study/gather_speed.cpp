@@ -74,6 +74,7 @@ struct HashSink {
   void surfelCluster(uint32_t n, bool front, const RGB& w) { add(front ? 3 : 4, n, w); }
   void lvoxel(uint32_t i, const RGB& w) { add(5, i, w); }
   void lvoxelCluster(uint32_t n, const RGB& w) { add(6, n, w); }
+  void beginRay(const Vec3&) {}
   void addBackground(const RGB& w) { add(7, 0, w); }
 };
 
