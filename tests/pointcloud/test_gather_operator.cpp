@@ -130,6 +130,65 @@ TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
     ASSERT_EQ(a.lvoxels().light.multiScatter(s)[0], b.lvoxels().light.multiScatter(s)[0]);
 }
 
+// Directional lvoxels (anisotropic media: nine coefficients per colour, docs/pcb.md): an
+// lvoxel sends sum c_k Yhat_k(wi) along a gather ray of direction wi. Rows of one known
+// ray each: the operator's row is that ray's radiance (as a RadianceSink finds it, lvoxels
+// and their clusters evaluated along the ray) times Yhat_k(wi), the ray's share of the
+// row's spherical-harmonic projection.
+TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
+  const test::BoxMedium medium(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.8f, 0.6f, 0.8f), RGB(0.1f),
+                               RGB(1.5f));
+  LvoxelSet lvoxels = sampleLvoxels(medium, {0.1f});
+  lvoxels.light.setCoefficients(kShCoefficients);
+  lvoxels.phaseMoments.assign(lvoxels.size(), {0.6f, 0.3f});
+  PointCloud pc = litBox(0.5f, 0.05f, lvoxels);
+  // Incident light from +x and from above: coefficients of bands 1 and 2.
+  LvoxelLight& light = pc.mutableLvoxels().light;
+  for (uint32_t c = 0; c < light.occupiedCount(); ++c) {
+    RGB* d = light.directInScatter(c);
+    d[0] = RGB(1.0f);
+    d[3] = RGB(0.8f);   // x
+    d[2] = RGB(0.4f);   // z
+    d[6] = RGB(0.2f);   // 3 z^2 - 1
+  }
+  pc.updateAggregates();
+  GatherOptions o;
+  o.maxLvoxelSolidAngle = 0.03f;  // clusters too
+  const Vec3 origin(0.5f, 0.05f, 0.5f);
+  const Vec3 dirs[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
+                       normalize(Vec3(0.6f, 0.5f, -0.4f))};
+  const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
+    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
+  });
+  ASSERT_EQ(op.coefficients(), kShCoefficients);
+  GatherValues values;
+  op.valuesInto(pc, o.background, values);
+  std::vector<RGB> applied;
+  op.apply(values, applied);
+  ASSERT_EQ(applied.size(), 3u * kShCoefficients);
+  for (size_t row = 0; row < 3; ++row) {
+    TraversalScratch scratch;
+    RadianceSink sink{pc, o.background};
+    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, sink);
+    float y[kShCoefficients];
+    shBasis(dirs[row], kShCoefficients, y);
+    for (int k = 0; k < kShCoefficients; ++k)
+      EXPECT_NEAR(applied[row * kShCoefficients + static_cast<size_t>(k)].x, sink.radiance.x * y[k],
+                  1e-5f * (1.0f + std::abs(sink.radiance.x * y[k])))
+          << row << " " << k;
+  }
+  // The lvoxels' light depends on direction here: the rays see different lvoxel radiance
+  // than their isotropic mean would give.
+  TraversalScratch scratch;
+  RadianceSink directional{pc, o.background};
+  traceGatherRay(pc, Ray{origin, dirs[0], o.rayOffset, kInf}, o, 1.0f, scratch, directional);
+  pc.mutableLvoxels().phaseMoments.assign(pc.lvoxels().size(), {0.0f, 0.0f});
+  pc.updateAggregates();
+  RadianceSink isotropic{pc, o.background};
+  traceGatherRay(pc, Ray{origin, dirs[0], o.rayOffset, kInf}, o, 1.0f, scratch, isotropic);
+  EXPECT_GT(std::abs(directional.radiance.x - isotropic.radiance.x), 0.01f * isotropic.radiance.x);
+}
+
 }  // namespace
 }  // namespace lvox
 
