@@ -145,6 +145,23 @@ TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   EXPECT_GT(report["counts"]["lvoxels"].get<uint64_t>(), 0u);
 }
 
+// A forward-scattering fog makes the lvoxels directional (docs/pcb.md): the ranks' shares
+// of the interreflection are then nine coefficients per lvoxel row, summed over the ranks
+// just as exactly.
+TEST_F(MpiCli, PcbWithDirectionalLvoxelsEqualsOneProcessRender) {
+  std::string text = kScene;
+  const std::string emission = "\"emission\": 0.5}";
+  text.replace(text.find(emission), emission.size(), "\"emission\": 0.5, \"g\": 0.7}");
+  test::writeFile(dir_ / "scene.json", text);
+  const auto [alone, ranks] = renderBoth("--mode pcb --spp 2 --threads 1");
+  ASSERT_GT(meanValue(alone), 0.01);
+  EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
+  const nlohmann::json report = readJson(path("ranks.json"));
+  // 9 coefficients per colour per cell in three arrays: 324 bytes a cell at least.
+  EXPECT_GT(report["memory"]["lvoxel_light"].get<uint64_t>(),
+            324u * report["counts"]["lvoxels"].get<uint64_t>());
+}
+
 // The layers are summed over the ranks with the image: each layer of a split render is the
 // one-process layer (mc: up to the order of the additions; pcb: bit for bit).
 TEST_F(MpiCli, LayersEqualOneProcessRender) {
