@@ -144,9 +144,10 @@ void PointCloud::updateAggregates() {
           const float side = 2.0f * lc.halfSize;
           const float v = side * side * side;
           if (v > 0.0f)
-            ls.add(lc.centroid, v, lc.sigmaT * v,
-                   count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
-                   count);
+            ls.add(
+                lc.centroid, v, lc.sigmaT * v,
+                count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
+                count);
         }
       }
       if (surfelClusters && node.isLeaf()) {
@@ -177,7 +178,8 @@ void PointCloud::updateAggregates() {
       RGB source[kShCoefficients];
       lvoxelClusters_[i] = ls.finish(source, count);
       if (count > 1)
-        std::copy(source, source + kShCoefficients, &lvoxelClusterCoefficients_[i * kShCoefficients]);
+        std::copy(source, source + kShCoefficients,
+                  &lvoxelClusterCoefficients_[i * kShCoefficients]);
     });
   }
 }

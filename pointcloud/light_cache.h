@@ -256,7 +256,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     double ignored = 0.0;
     storeMultiScatter(l, lvoxelGathered.data(), static_cast<int>(count),
                       [&](RGB& value, const RGB& next, size_t k) {
-                        updateInto(k == 0 ? change : ignored, k == 0 ? total : ignored, value, next);
+                        updateInto(k == 0 ? change : ignored, k == 0 ? total : ignored, value,
+                                   next);
                       });
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
     cloud.updateAggregates();

@@ -73,7 +73,9 @@ class LvoxelLight {
     return direct_.data() + slot * coefficientStride();
   }
   RGB* multiScatter(uint32_t slot) { return multi_.data() + slot * coefficientStride(); }
-  const RGB* multiScatter(uint32_t slot) const { return multi_.data() + slot * coefficientStride(); }
+  const RGB* multiScatter(uint32_t slot) const {
+    return multi_.data() + slot * coefficientStride();
+  }
   // L_s's coefficient k for the point cloud: direct + multiple scattering.
   RGB inScatter(uint32_t slot, int k = 0) const {
     const size_t i = slot * coefficientStride() + static_cast<size_t>(k);

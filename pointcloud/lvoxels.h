@@ -4,8 +4,8 @@
 // around its position: cubes of one grid tile space, so the optical depth summed over
 // the lvoxels a ray crosses equals the optical depth of the averaged medium (see
 // docs/pointcloud.md, "slab transmittance").
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

@@ -313,8 +313,8 @@ void PointCloud::buildTraversalLayout() {
         b.lo[a][c] = box.lo[a];
         b.hi[a][c] = box.hi[a];
       }
-      const TraversalNode used = c < node.childCount ? traversalNodes_[node.childBegin + c]
-                                                     : TraversalNode{};
+      const TraversalNode used =
+          c < node.childCount ? traversalNodes_[node.childBegin + c] : TraversalNode{};
       b.ref[c] = used.ref;
       b.surfelEnd[c] = used.surfelEnd;
     }
@@ -329,7 +329,8 @@ void PointCloud::buildTraversalLayout() {
                  (surfels_.enclosedSides[i] & 3u) | clipped};
   });
   cubes_.resize(lvoxels_.size());
-  for (size_t i = 0; i < lvoxels_.size(); ++i) cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
+  for (size_t i = 0; i < lvoxels_.size(); ++i)
+    cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
 }
 
 uint32_t PointCloud::searchRoot(uint32_t& surfelEnd) const {
@@ -345,13 +346,14 @@ PointCloudMemory PointCloud::memory() const {
   m.octreeBytes = nodes_.size() * sizeof(OctreeNode) + cells_.size() * sizeof(Bounds3) +
                   surfelClusters_.size() * sizeof(SurfelCluster) +
                   lvoxelClusters_.size() * sizeof(LvoxelCluster) +
-                  lvoxelClusterCoefficients_.size() * sizeof(RGB) + levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
+                  lvoxelClusterCoefficients_.size() * sizeof(RGB) +
+                  levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
   return m;
 }
 
 size_t PointCloud::traversalBytes() const {
-  return childBlocks_.size() * sizeof(OctreeChildren) +
-         wideBlocks_.size() * sizeof(WideChildren) + traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
+  return childBlocks_.size() * sizeof(OctreeChildren) + wideBlocks_.size() * sizeof(WideChildren) +
+         traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
          cubes_.size() * sizeof(CubeElement);
 }
 

@@ -28,7 +28,7 @@ struct PointBasedCache {
   // Directional lvoxels (anisotropic media): light from the sources reaches surfaces
   // through the media without their phases' forward peaks (pcb_media.h).
   bool reducedShadows = false;
-  IndirectGrid gathers;               // final gathers at a reduced rate; empty: at every camera hit
+  IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
 };
 

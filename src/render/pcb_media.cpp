@@ -149,9 +149,9 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
       const Light& l = lights.lights()[k];
       const Vec3 wi = l.type == LightType::Directional ? -l.direction : s.wi;
       const float distance = l.type == LightType::Directional ? kInf : length(l.position - x);
-      transmittance[k] = distance > 0.0f ? lightTransmittance(ctx, volume, x, wi, distance,
-                                                              reduced, local)
-                                         : RGB(1.0f);
+      transmittance[k] = distance > 0.0f
+                             ? lightTransmittance(ctx, volume, x, wi, distance, reduced, local)
+                             : RGB(1.0f);
     }
     Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
     // Samples are weighted 1/pdf already: their sum estimates the integral of L dw, and

@@ -147,9 +147,9 @@ TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
   for (uint32_t c = 0; c < light.occupiedCount(); ++c) {
     RGB* d = light.directInScatter(c);
     d[0] = RGB(1.0f);
-    d[3] = RGB(0.8f);   // x
-    d[2] = RGB(0.4f);   // z
-    d[6] = RGB(0.2f);   // 3 z^2 - 1
+    d[3] = RGB(0.8f);  // x
+    d[2] = RGB(0.4f);  // z
+    d[6] = RGB(0.2f);  // 3 z^2 - 1
   }
   pc.updateAggregates();
   GatherOptions o;

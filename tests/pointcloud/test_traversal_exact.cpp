@@ -51,8 +51,8 @@ struct Counts {
 
 // Traces `ray` both ways and compares; returns false (with a message) on a difference.
 ::testing::AssertionResult sameVisits(const PointCloud& pc, const Ray& ray,
-                                      const TraversalOptions& o, int stopAt,
-                                      TraversalScratch& fast, TraversalScratch& ref, Counts& n) {
+                                      const TraversalOptions& o, int stopAt, TraversalScratch& fast,
+                                      TraversalScratch& ref, Counts& n) {
   CallLog a, b;
   a.stopAt = b.stopAt = stopAt;
   const TraversalStats before = fast.stats;
@@ -123,10 +123,10 @@ Ray randomRay(Rng& rng) {
 }
 
 const TraversalOptions kOptions[] = {
-    {},                     // exact: the nearest-disk search
-    {0.0f, 0.05f, true},    // lvoxel clusters (the renderer's default)
-    {0.03f, 0.0f, true},    // surfel clusters: the heap only
-    {0.0f, 0.05f, false},   // lvoxels only (ray-traced visibility)
+    {},                    // exact: the nearest-disk search
+    {0.0f, 0.05f, true},   // lvoxel clusters (the renderer's default)
+    {0.03f, 0.0f, true},   // surfel clusters: the heap only
+    {0.0f, 0.05f, false},  // lvoxels only (ray-traced visibility)
     {0.0f, 0.0f, false},
 };
 
@@ -142,10 +142,11 @@ TEST(TraversalExact, RandomCloudMatchesTheHeapTraversal) {
       for (const TraversalOptions& o : kOptions)
         ASSERT_TRUE(sameVisits(pc, ray, o, stopAt, fast, ref, n)) << "seed " << seed;
     }
-    std::printf("seed %llu: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu "
-                "surfel hits, %zu lvoxel visits\n",
-                static_cast<unsigned long long>(seed), n.rays, n.nearestDisk, n.heap,
-                n.surfelHits, n.lvoxelVisits);
+    std::printf(
+        "seed %llu: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu "
+        "surfel hits, %zu lvoxel visits\n",
+        static_cast<unsigned long long>(seed), n.rays, n.nearestDisk, n.heap, n.surfelHits,
+        n.lvoxelVisits);
     EXPECT_GT(n.nearestDisk, n.rays / 10);
     EXPECT_GT(n.surfelHits, n.rays / 10);
     if (seed == 2) {
@@ -179,9 +180,10 @@ TEST(TraversalExact, LatticeGathersMatchTheHeapTraversal) {
       for (const TraversalOptions& o : kOptions)
         ASSERT_TRUE(sameVisits(pc, ray, o, -1, fast, ref, n)) << "fog " << withFog;
     }
-    std::printf("fog %d: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu surfel "
-                "hits, %zu lvoxel visits\n",
-                withFog, n.rays, n.nearestDisk, n.heap, n.surfelHits, n.lvoxelVisits);
+    std::printf(
+        "fog %d: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu surfel "
+        "hits, %zu lvoxel visits\n",
+        withFog, n.rays, n.nearestDisk, n.heap, n.surfelHits, n.lvoxelVisits);
     EXPECT_GT(n.nearestDisk, n.rays / 5);
     EXPECT_GT(n.surfelHits, n.rays / 5);  // half the rays leave the room from its outside
     if (withFog) {

@@ -14,6 +14,11 @@ RenderResult render(const std::string& text, Report& report) {
   return renderScene(scene.job(), plan, report);
 }
 
+// The scene text with its "MODE" placeholder replaced.
+std::string sceneInMode(std::string scene, const std::string& mode) {
+  return scene.replace(scene.find("MODE"), 4, mode);
+}
+
 // A white floor beside a red wall, lit by a sun that reaches both: the floor next to the
 // wall is reddened by light bounced off the wall.
 TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
@@ -27,10 +32,7 @@ TEST(PointBasedRenderer, RedWallBleedsOntoWhiteFloor) {
     "pointcloud": {"surfel_spacing": 0.03, "gather_samples": 1024, "cluster_solid_angle": 0,
                    "bounces": 0, "gather_spacing": 1}
   })";
-  auto withMode = [&](const std::string& mode) {
-    std::string s = scene;
-    return s.replace(s.find("MODE"), 4, mode);
-  };
+  auto withMode = [&](const std::string& mode) { return sceneInMode(scene, mode); };
   Report pcbReport, mcReport;
   const RGB pcb = render(withMode("pcb-surfels"), pcbReport).image.at(0, 0);
   // The Monte Carlo reference with the same bounce budget (direct + one bounce).
@@ -77,10 +79,7 @@ TEST(PointBasedRenderer, EmissiveSurfacesAreNotCountedTwice) {
                {"type": "quad", "corners": [[-0.6,1.5,-0.6],[0.6,1.5,-0.6],[0.6,1.5,0.6],[-0.6,1.5,0.6]], "material": "lamp"}],
     "pointcloud": {"target_surfels": 20000, "gather_spacing": 1}
   })";
-  auto withMode = [&](const std::string& mode) {
-    std::string s = scene;
-    return s.replace(s.find("MODE"), 4, mode);
-  };
+  auto withMode = [&](const std::string& mode) { return sceneInMode(scene, mode); };
   Report pcbReport, directReport;
   const RGB pcb = render(withMode("pcb"), pcbReport).image.at(0, 0);
   const RGB direct = render(withMode("direct"), directReport).image.at(0, 0);

@@ -2,28 +2,12 @@
 
 #include <cmath>
 
+#include "sphere_quadrature.h"
 #include "src/core/spherical_harmonics.h"
 #include "volume/phase.h"
 
 namespace lvox {
 namespace {
-
-// Mean over the sphere of f(w) by the midpoint rule in (cos theta, phi): exact to well
-// under 1e-4 for the smooth integrands below.
-template <class F>
-double sphereMean(F&& f, int nMu = 800, int nPhi = 400) {
-  double sum = 0.0;
-  for (int i = 0; i < nMu; ++i) {
-    const double mu = -1.0 + (i + 0.5) * 2.0 / nMu;
-    const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-    for (int j = 0; j < nPhi; ++j) {
-      const double phi = (j + 0.5) * 2.0 * M_PI / nPhi;
-      sum += f(Vec3(static_cast<float>(s * std::cos(phi)), static_cast<float>(s * std::sin(phi)),
-                    static_cast<float>(mu)));
-    }
-  }
-  return sum / (static_cast<double>(nMu) * nPhi);
-}
 
 // Funk-Hecke: the projection of a phase function around the axis u is its Legendre
 // moment times the basis at u, band by band: mean of p(w . u) Yhat_k(w) = chi_l Yhat_k(u)
@@ -35,7 +19,7 @@ TEST(SphericalHarmonics, PhaseConvolutionScalesEachBandByItsMoment) {
   for (const PhaseKind kind : {PhaseKind::HenyeyGreenstein, PhaseKind::Schlick}) {
     const PhaseFunction p = PhaseFunction::make(kind, 0.6f);
     for (int k = 0; k < kShCoefficients; ++k) {
-      const double m = sphereMean(
+      const double m = test::sphereMean(
           [&](const Vec3& w) {
             float y[kShCoefficients];
             shBasis(w, kShCoefficients, y);

@@ -1,10 +1,9 @@
 #include "volume/media/media_set.h"
 
-#include "src/core/spherical_harmonics.h"
-
 #include <algorithm>
 
 #include "src/core/error.h"
+#include "src/core/spherical_harmonics.h"
 #include "volume/media/vdb_loader.h"
 
 namespace lvox {
@@ -139,7 +138,6 @@ RGB MediaSet::heterogeneousSigmaT(const Vec3& p, bool reduced) const {
   return sigmaT;
 }
 
-
 RGB MediaSet::homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax, bool reduced) const {
   RGB tau(0.0f);
   thread_local std::vector<std::pair<float, float>> spans;
@@ -147,7 +145,8 @@ RGB MediaSet::homogeneousOpticalDepth(const Ray& ray, float tmin, float tmax, bo
     if (!m.homogeneous()) continue;
     spans.clear();
     m.intervals(ray, tmin, tmax, spans);
-    const RGB sigmaT = reduced ? m.majorant() - m.sigmaS * m.phase.truncated(kShBands).forward : m.majorant();
+    const RGB sigmaT =
+        reduced ? m.majorant() - m.sigmaS * m.phase.truncated(kShBands).forward : m.majorant();
     for (const auto& [a, b] : spans) tau += sigmaT * (b - a);
   }
   return tau;

@@ -28,11 +28,11 @@
 #include <tbb/task_arena.h>
 
 #include <bit>
-#include <ctime>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -66,8 +66,8 @@ struct HashSink {
   uint64_t hash = 0;
   void add(uint64_t kind, uint32_t id, const RGB& w) {
     hash = mixHash(hash, kind << 32 | id);
-    hash = mixHash(hash, uint64_t(std::bit_cast<uint32_t>(w.x)) << 32 |
-                             std::bit_cast<uint32_t>(w.y));
+    hash =
+        mixHash(hash, uint64_t(std::bit_cast<uint32_t>(w.x)) << 32 | std::bit_cast<uint32_t>(w.y));
     hash = mixHash(hash, std::bit_cast<uint32_t>(w.z));
   }
   void surfel(uint32_t i, bool front, const RGB& w) { add(front ? 1 : 2, i, w); }
@@ -151,9 +151,10 @@ double timeRays(size_t n, int threads, const PerRay& perRay) {
   tbb::task_arena arena(threads);
   const auto start = std::chrono::steady_clock::now();
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t k = r.begin(); k < r.end(); ++k) perRay(k);
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t k = r.begin(); k < r.end(); ++k) perRay(k);
+                      });
   });
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -223,12 +224,10 @@ void runScene(const std::string& path, const Args& args) {
   const LightSet lights(scene.world, scene.render.areaLightSamples);
   const RenderContext ctx{scene.world, scene.render, tracer, lights};
   Report report;
-  const MediaSet media =
-      MediaSet::build(scene.media, scene.volume.interpolation, report.warnings);
+  const MediaSet media = MediaSet::build(scene.media, scene.volume.interpolation, report.warnings);
   const VolumeTransport volume(ctx, media, scene.volume);
   const auto build = std::chrono::steady_clock::now();
-  const PointBasedCache cache =
-      buildPointCloud(ctx, volume, scene.pointcloud, scene.path, report);
+  const PointBasedCache cache = buildPointCloud(ctx, volume, scene.pointcloud, scene.path, report);
   const double buildSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - build).count();
   const PointCloud& cloud = *cache.cloud;
@@ -252,16 +251,17 @@ void runScene(const std::string& path, const Args& args) {
       r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
     }
     workloads.push_back(std::move(traced));
-    workloads.push_back({"lvoxel gathers (disks)", Kind::Disks,
-                         lvoxelGatherRays(cloud.lvoxels(), args.rays)});
+    workloads.push_back(
+        {"lvoxel gathers (disks)", Kind::Disks, lvoxelGatherRays(cloud.lvoxels(), args.rays)});
   }
 
-  std::printf("\n%s: %zu triangles, %zu surfels (spacing %.4g), %zu lvoxels, %zu nodes, "
-              "cloud built in %.2f s, traversal layout %.1f MB of %.1f MB\n",
-              std::filesystem::path(path).filename().c_str(), scene.world.mesh.triangleCount(),
-              cloud.surfels().size(), spacing, cloud.lvoxels().size(), cloud.nodes().size(),
-              buildSeconds, static_cast<double>(cloud.traversalBytes()) * 1e-6,
-              static_cast<double>(cloud.memoryBytes()) * 1e-6);
+  std::printf(
+      "\n%s: %zu triangles, %zu surfels (spacing %.4g), %zu lvoxels, %zu nodes, "
+      "cloud built in %.2f s, traversal layout %.1f MB of %.1f MB\n",
+      std::filesystem::path(path).filename().c_str(), scene.world.mesh.triangleCount(),
+      cloud.surfels().size(), spacing, cloud.lvoxels().size(), cloud.nodes().size(), buildSeconds,
+      static_cast<double>(cloud.traversalBytes()) * 1e-6,
+      static_cast<double>(cloud.memoryBytes()) * 1e-6);
   std::printf("%-26s %7s %8s %14s %14s %7s %9s %6s  %s\n", "workload", "threads", "rays",
               "octree Mrays/s", "embree Mrays/s", "ratio", "work/ray", "heap", "checksum");
   for (const Workload& w : workloads)

@@ -249,7 +249,8 @@ TEST(SparseGrid, TheBudgetSeesTheTreeBeforeItIsRead) {
               [&](uint64_t bytes) { seen.push_back(bytes); });
   ASSERT_EQ(seen.size(), 1u);
   // OpenVDB's figure for the tree it wrote: what the loaded tree takes, within 10 %.
-  EXPECT_NEAR(static_cast<double>(seen[0]), static_cast<double>(treeBytes), 0.1 * static_cast<double>(treeBytes));
+  EXPECT_NEAR(static_cast<double>(seen[0]), static_cast<double>(treeBytes),
+              0.1 * static_cast<double>(treeBytes));
   EXPECT_NEAR(static_cast<double>(report.treeBytes), static_cast<double>(treeBytes),
               0.1 * static_cast<double>(treeBytes));
 
