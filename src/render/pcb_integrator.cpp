@@ -36,6 +36,10 @@ float surfelSpacing(const World& world, const PointCloudSettings& settings) {
 // stored). The sampler adds border sites: up to 15 % more surfels than area / spacing^2.
 constexpr double kBytesPerSurfel = 250.0, kBytesPerLvoxel = 250.0, kBytesPerWeight = 8.0;
 constexpr double kWeightsPerSurfelRay = 1.2, kWeightsPerLvoxelRay = 16.0, kBorderSites = 1.15;
+// Directional lvoxels (anisotropic media) add 8 coefficients per colour in each of their
+// cell's three light arrays (288 bytes) and in their share of the clusters (about 0.3 node
+// per lvoxel on the WDAS cloud, 32 bytes).
+constexpr double kDirectionalBytesPerLvoxel = 320.0;
 // Indices into the octree's packed arrays have 29 bits (octree_node.h).
 constexpr double kMaxSurfels = 2.5e8;
 
@@ -69,18 +73,21 @@ void checkSurfelMemory(const RenderContext& ctx, const PointCloudSettings& setti
 
 // The lvoxels, once sampled (their count depends on the media): their light, their share
 // of the octree and their interreflection weights.
-void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& settings, size_t lvoxels,
-                       const std::string& sceneFile) {
+void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& settings,
+                       const LvoxelSet& set, const std::string& sceneFile) {
+  const size_t lvoxels = set.size();
   if (!ctx.budget || lvoxels == 0) return;
   const double n = static_cast<double>(lvoxels);
+  const double perLvoxel =
+      kBytesPerLvoxel + (set.light.coefficients() > 1 ? kDirectionalBytesPerLvoxel : 0.0);
   const double weights = settings.bounces > 0
                              ? settings.lvoxelGatherSamples * kWeightsPerLvoxelRay * kBytesPerWeight
                              : 0.0;
   const std::string what = "the lvoxels (" + std::to_string(lvoxels) + ")";
-  ctx.budget->check(static_cast<uint64_t>(n * (kBytesPerLvoxel + weights)), sceneFile,
+  ctx.budget->check(static_cast<uint64_t>(n * (perLvoxel + weights)), sceneFile,
                     "pointcloud.lvoxel_spacing", what);
-  ctx.budget->reserve(static_cast<uint64_t>(n * kBytesPerLvoxel), sceneFile,
-                      "pointcloud.lvoxel_spacing", what);
+  ctx.budget->reserve(static_cast<uint64_t>(n * perLvoxel), sceneFile, "pointcloud.lvoxel_spacing",
+                      what);
 }
 
 GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
@@ -267,7 +274,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.
     cache.lvoxels = lvoxels.size() > 0;
     cache.reducedShadows = cache.lvoxels && lvoxels.light.coefficients() > 1;
-    checkLvoxelMemory(ctx, settings, lvoxels.size(), sceneFile);
+    checkLvoxelMemory(ctx, settings, lvoxels, sceneFile);
   }
   {
     PhaseTimer timer(report, "octree_build");
