@@ -12,19 +12,17 @@
 // (PhaseFunction::moment; g^l for Henyey-Greenstein).
 #include "src/core/math.h"
 
-#ifndef LVOX_SH_BANDS
-#define LVOX_SH_BANDS 3
-#endif
-
 namespace lvox {
 
-inline constexpr int kShBands = LVOX_SH_BANDS;
+// Three bands (a fourth was measured and not kept: docs/pcb.md; its basis is in the
+// history of this file, commit a898b88).
+inline constexpr int kShBands = 3;
 inline constexpr int kShCoefficients = kShBands * kShBands;
 
-// The band l of coefficient k (0; 1, 1, 1; 2, 2, 2, 2, 2; 3 ...).
-constexpr int shBand(int k) { return k == 0 ? 0 : (k < 4 ? 1 : (k < 9 ? 2 : 3)); }
+// The band l of coefficient k (0; 1, 1, 1; 2, 2, 2, 2, 2).
+constexpr int shBand(int k) { return k == 0 ? 0 : (k < 4 ? 1 : 2); }
 
-// Yhat_k(d) for the first `count` coefficients (1, 4, 9 or 16) of a unit vector d.
+// Yhat_k(d) for the first `count` coefficients (1, 4 or 9) of a unit vector d.
 inline void shBasis(const Vec3& d, int count, float* y) {
   y[0] = 1.0f;
   if (count <= 1) return;
@@ -41,20 +39,6 @@ inline void shBasis(const Vec3& d, int count, float* y) {
   y[6] = kL20 * (3.0f * d.z * d.z - 1.0f);
   y[7] = kL2 * d.x * d.z;
   y[8] = kL22 * (d.x * d.x - d.y * d.y);
-  if constexpr (kShBands < 4) return;  // (and no band 3 to fill in arrays of kShCoefficients)
-  if (count <= 9) return;
-  constexpr float kL33 = 2.0916500f;   // sqrt(35 / 8)
-  constexpr float kL32 = 10.2469508f;  // sqrt(105)
-  constexpr float kL31 = 1.6201852f;   // sqrt(21 / 8)
-  constexpr float kL30 = 1.3228757f;   // sqrt(7) / 2
-  const float z2 = d.z * d.z;
-  y[9] = kL33 * d.y * (3.0f * d.x * d.x - d.y * d.y);
-  y[10] = kL32 * d.x * d.y * d.z;
-  y[11] = kL31 * d.y * (5.0f * z2 - 1.0f);
-  y[12] = kL30 * d.z * (5.0f * z2 - 3.0f);
-  y[13] = kL31 * d.x * (5.0f * z2 - 1.0f);
-  y[14] = 0.5f * kL32 * d.z * (d.x * d.x - d.y * d.y);
-  y[15] = kL33 * d.x * (d.x * d.x - 3.0f * d.y * d.y);
 }
 
 // sum over k < count of c[k] * y[k], a radiance: clamped at zero, since a band-limited
