@@ -7,41 +7,55 @@ namespace lvox {
 
 namespace {
 
+// Sums of a cluster's surfels (or child clusters), weighted by their represented area.
 struct SurfelSums {
   Bounds3 cover;
   float diskArea = 0.0f;
   Vec3 weightedPosition{0, 0, 0};
   float area = 0.0f;
-  Vec3 reference{0, 0, 0};  // normals are flipped into the hemisphere around this
-  Vec3 weightedNormal{0, 0, 0};
   float moment[6] = {0, 0, 0, 0, 0, 0};
-  RGB front{0, 0, 0}, back{0, 0, 0};  // area-weighted radiance, sides w.r.t. reference
+  SurfelCluster sh;  // openArea and power, summed
 
-  // Adds a disk (or a child cluster) of `area` with unit normal n whose side along n has
-  // radiance lf, and moments m (already area weighted).
-  void add(const Vec3& p, float a, const Vec3& n, const RGB& lf, const RGB& lb, const float* m) {
-    if (a <= 0.0f) return;
-    if (area == 0.0f) reference = n;
-    const bool flip = dot(n, reference) < 0.0f;
+  // A surfel of represented area a, unit normal n, radiance lf / lb of its sides, and
+  // `enclosed` sides (SurfelSet::enclosedSides bits).
+  void addSurfel(const Vec3& p, float a, const Vec3& n, const RGB& lf, const RGB& lb,
+                 uint8_t enclosed) {
+    if (!(a > 0.0f)) return;
     weightedPosition += p * a;
     area += a;
-    weightedNormal += (flip ? -n : n) * a;
-    for (int k = 0; k < 6; ++k) moment[k] += m[k];
-    front += (flip ? lb : lf) * a;
-    back += (flip ? lf : lb) * a;
+    const float m[6] = {n.x * n.x, n.y * n.y, n.z * n.z, n.x * n.y, n.x * n.z, n.y * n.z};
+    for (int k = 0; k < 6; ++k) moment[k] += a * m[k];
+    if (!(enclosed & 1u)) addSide(n, a, lf);
+    if (!(enclosed & 2u)) addSide(-n, a, lb);
+  }
+  void addSide(const Vec3& m, float a, const RGB& radiance) {
+    float c[kShCoefficients];
+    clampedCosineCoefficients(m, c);
+    for (int k = 0; k < kShCoefficients; ++k) {
+      sh.openArea[k] += a * c[k];
+      sh.power[k] += radiance * (a * c[k]);
+    }
+  }
+  void addCluster(const SurfelCluster& c) {
+    if (!(c.area > 0.0f)) return;
+    weightedPosition += c.centroid * c.area;
+    area += c.area;
+    for (int k = 0; k < 6; ++k) moment[k] += c.moment[k] * c.area;
+    for (int k = 0; k < kShCoefficients; ++k) {
+      sh.openArea[k] += c.openArea[k];
+      sh.power[k] += c.power[k];
+    }
+    cover.extend(c.cover);
+    diskArea += c.diskArea;
   }
   SurfelCluster finish() const {
-    SurfelCluster c;
-    if (area <= 0.0f) return c;
+    if (area <= 0.0f) return SurfelCluster{};
+    SurfelCluster c = sh;
     c.cover = cover;
     c.diskArea = diskArea;
     c.centroid = weightedPosition / area;
     c.area = area;
-    const float len = length(weightedNormal);
-    c.axis = len > 0.0f ? weightedNormal / len : reference;
     for (int k = 0; k < 6; ++k) c.moment[k] = moment[k] / area;
-    c.radianceFront = front / area;
-    c.radianceBack = back / area;
     return c;
   }
 };
@@ -57,15 +71,6 @@ Bounds3 squareBounds(const Vec3& p, const Vec3& n, float side) {
   b.lo = p - e;
   b.hi = p + e;
   return b;
-}
-
-void diskMoment(const Vec3& n, float a, float* m) {
-  m[0] = a * n.x * n.x;
-  m[1] = a * n.y * n.y;
-  m[2] = a * n.z * n.z;
-  m[3] = a * n.x * n.y;
-  m[4] = a * n.x * n.z;
-  m[5] = a * n.y * n.z;
 }
 
 struct LvoxelSums {
@@ -114,13 +119,11 @@ void PointCloud::updateAggregates() {
       const OctreeNode& node = nodes_[i];
       SurfelSums ss;
       LvoxelSums ls;
-      float m[6];
       if (node.isLeaf()) {
         for (uint32_t s = node.surfelBegin; surfelClusters && s < node.surfelEnd; ++s) {
           const float a = surfels_.representedArea(s);
-          diskMoment(surfels_.normal[s], a, m);
-          ss.add(surfels_.position[s], a, surfels_.normal[s], surfels_.radianceFront[s],
-                 surfels_.radianceBack[s], m);
+          ss.addSurfel(surfels_.position[s], a, surfels_.normal[s], surfels_.radianceFront[s],
+                       surfels_.radianceBack[s], surfels_.enclosedSides[s]);
           ss.cover.extend(
               squareBounds(surfels_.position[s], surfels_.normal[s], 2.0f * std::sqrt(a)));
           ss.diskArea += kPi * surfels_.radius[s] * surfels_.radius[s];
@@ -133,13 +136,7 @@ void PointCloud::updateAggregates() {
         }
       } else {
         for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
-          if (surfelClusters) {
-            const SurfelCluster& sc = surfelClusters_[c];
-            for (int k = 0; k < 6; ++k) m[k] = sc.moment[k] * sc.area;
-            ss.add(sc.centroid, sc.area, sc.axis, sc.radianceFront, sc.radianceBack, m);
-            if (sc.area > 0.0f) ss.cover.extend(sc.cover);
-            ss.diskArea += sc.diskArea;
-          }
+          if (surfelClusters) ss.addCluster(surfelClusters_[c]);
           const LvoxelCluster& lc = lvoxelClusters_[c];
           const float side = 2.0f * lc.halfSize;
           const float v = side * side * side;

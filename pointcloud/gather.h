@@ -39,8 +39,9 @@ struct GatherOptions {
 // cloud's radiance (GatherOperator records them once for all interreflection passes).
 // Sink interface:
 //   beginRay(dir) (each ray's direction, before its weights: lvoxels in anisotropic
-//   media send their light by direction), surfel(i, front, w), surfelCluster(node, front,
-//   w), lvoxel(i, w), lvoxelCluster(node, w), addBackground(w)
+//   media and surfel clusters send their light by direction), surfel(i, front, w),
+//   surfelCluster(node, w) (w: the coverage's share; the cluster's radiance along the ray
+//   is the sink's to evaluate), lvoxel(i, w), lvoxelCluster(node, w), addBackground(w)
 template <class Sink>
 struct GatherRayWeights {
   const PointCloud& cloud;
@@ -54,8 +55,8 @@ struct GatherRayWeights {
     sink.surfel(i, front, transmittance * scale);
     opaqueHit = true;
   }
-  bool surfelCluster(uint32_t n, float, bool front, float coverage) {
-    sink.surfelCluster(n, front, transmittance * (coverage * scale));
+  bool surfelCluster(uint32_t n, float, float coverage) {
+    sink.surfelCluster(n, transmittance * (coverage * scale));
     transmittance *= 1.0f - coverage;
     return maxComponent(transmittance) >= minTransmittance;
   }
@@ -87,17 +88,18 @@ struct RadianceSink {
   RGB radiance{0, 0, 0};
   int coefficients = cloud.lvoxels().light.coefficients();
   float yhat[kShCoefficients] = {1.0f};  // the ray's spherical harmonics (directional lvoxels)
+  Vec3 direction{0, 0, 1};
 
   void beginRay(const Vec3& dir) {
+    direction = dir;
     if (coefficients > 1) shBasis(dir, coefficients, yhat);
   }
   void surfel(uint32_t i, bool front, const RGB& w) {
     const SurfelSet& s = cloud.surfels();
     radiance += w * (front ? s.radianceFront[i] : s.radianceBack[i]);
   }
-  void surfelCluster(uint32_t n, bool front, const RGB& w) {
-    const SurfelCluster& c = cloud.surfelClusters()[n];
-    radiance += w * (front ? c.radianceFront : c.radianceBack);
+  void surfelCluster(uint32_t n, const RGB& w) {
+    radiance += w * cloud.surfelClusters()[n].radiance(direction);
   }
   void lvoxel(uint32_t i, const RGB& w) {
     radiance += w * (coefficients > 1 ? cloud.lvoxels().sourceRadiance(i, yhat)

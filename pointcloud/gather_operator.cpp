@@ -25,10 +25,9 @@ void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRad
     v[surfel(index(i), false)] = s.radianceBack[i];
   }
   for (size_t i = 0; i < lvoxels; ++i) v[lvoxel(index(i))] = cloud.lvoxels().sourceRadiance(i);
-  for (size_t n = 0; n < surfelClusters; ++n) {
-    v[surfelCluster(index(n), true)] = cloud.surfelClusters()[n].radianceFront;
-    v[surfelCluster(index(n), false)] = cloud.surfelClusters()[n].radianceBack;
-  }
+  for (size_t n = 0; n < surfelClusters; ++n)
+    for (int k = 0; k < kShCoefficients; ++k)
+      v[surfelCluster(index(n), k)] = cloud.surfelClusters()[n].power[k];
   for (size_t n = 0; n < lvoxelClusters; ++n)
     v[lvoxelCluster(index(n))] = cloud.lvoxelClusters()[n].sourceRadiance;
   v[background()] = backgroundRadiance;

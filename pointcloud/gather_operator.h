@@ -21,23 +21,28 @@
 
 namespace lvox {
 
-// Columns: every radiance a gather ray can pick up, in one flat vector. Lvoxels and their
-// clusters come last: in anisotropic media their radiance depends on the ray's direction
-// (the columns from firstDirectional() on, which then also have coefficients).
+// Columns: every radiance a gather ray can pick up, in one flat vector. A surfel cluster
+// has one column per power coefficient (surfel_cluster.h): its radiance along a ray is
+// linear in them, with weights of the ray's direction. Lvoxels and their clusters come
+// last: in anisotropic media their radiance depends on the ray's direction (the columns
+// from firstDirectional() on, which then also have coefficients).
 struct GatherColumns {
   size_t surfels = 0, lvoxels = 0, surfelClusters = 0, lvoxelClusters = 0;
   int coefficients = 1;  // of the lvoxels' light: 1, or 9 where their radiance has direction
 
   explicit GatherColumns(const PointCloud& cloud);
   uint32_t surfel(uint32_t i, bool front) const { return front ? i : index(surfels + i); }
-  uint32_t surfelCluster(uint32_t n, bool front) const {
-    return index(2 * surfels + (front ? 0 : surfelClusters) + n);
+  uint32_t surfelCluster(uint32_t n, int coefficient) const {
+    return index(2 * surfels + static_cast<size_t>(n) * kShCoefficients +
+                 static_cast<size_t>(coefficient));
   }
-  uint32_t background() const { return index(2 * surfels + 2 * surfelClusters); }
+  uint32_t background() const { return index(2 * surfels + kShCoefficients * surfelClusters); }
   uint32_t firstDirectional() const { return background() + 1; }
   uint32_t lvoxel(uint32_t i) const { return index(firstDirectional() + i); }
   uint32_t lvoxelCluster(uint32_t n) const { return index(firstDirectional() + lvoxels + n); }
-  size_t size() const { return 2 * surfels + lvoxels + 2 * surfelClusters + lvoxelClusters + 1; }
+  size_t size() const {
+    return 2 * surfels + lvoxels + kShCoefficients * surfelClusters + lvoxelClusters + 1;
+  }
   bool directional() const { return coefficients > 1; }
   // The cloud's radiance as it stands (call updateAggregates first), in column order; for
   // lvoxels and their clusters, the mean over directions.
@@ -61,16 +66,21 @@ struct GatherEntry {
 // Appends a gather's weights to one row (GatherRayWeights' sink). With directional
 // columns it also keeps each ray's direction, and the entries say which ray they are of.
 struct GatherRecorder {
+  const PointCloud& cloud;
   const GatherColumns& columns;
   std::vector<GatherEntry>& entries;
   std::vector<Vec3>* rays = nullptr;  // directional operators: the row's ray directions
+  Vec3 direction{0, 0, 1};
 
   void beginRay(const Vec3& dir) {
+    direction = dir;
     if (rays) rays->push_back(dir);
   }
   void surfel(uint32_t i, bool front, const RGB& w) { add(columns.surfel(i, front), w); }
-  void surfelCluster(uint32_t n, bool front, const RGB& w) {
-    add(columns.surfelCluster(n, front), w);
+  void surfelCluster(uint32_t n, const RGB& w) {
+    float g[kShCoefficients];
+    if (!cloud.surfelClusters()[n].radianceWeights(direction, g)) return;
+    for (int k = 0; k < kShCoefficients; ++k) add(columns.surfelCluster(n, k), w * g[k]);
   }
   void lvoxel(uint32_t i, const RGB& w) { add(columns.lvoxel(i), w); }
   void lvoxelCluster(uint32_t n, const RGB& w) { add(columns.lvoxelCluster(n), w); }
@@ -78,7 +88,8 @@ struct GatherRecorder {
   void add(uint32_t column, const RGB& w) {
     LVOX_DCHECK(column < columns.size(), "gather column out of range");
     const uint32_t ray = rays ? static_cast<uint32_t>(rays->size()) - 1 : 0;
-    if (maxComponent(w) > 0.0f) entries.push_back({column, ray, w});
+    // Surfel clusters' weights can be negative (higher spherical harmonics).
+    if (w.x != 0.0f || w.y != 0.0f || w.z != 0.0f) entries.push_back({column, ray, w});
   }
 };
 
@@ -184,7 +195,7 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
       row.clear();
       rays.clear();
       std::vector<Vec3>* directions = columns_.directional() ? &rays : nullptr;
-      GatherRecorder recorder{columns_, row, directions};
+      GatherRecorder recorder{cloud, columns_, row, directions};
       record(r, recorder, scratch);
       appendMerged(row, directions, entries, block);
     }

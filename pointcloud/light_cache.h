@@ -216,17 +216,23 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     value = finite;
   };
   // One row's gathered radiance into the cloud (surfel radiance in place: the gathers read
-  // the snapshot `values` only); a surfel's irradiance is the first coefficient.
+  // the snapshot `values` only); a surfel's irradiance is the first coefficient. A row is
+  // a sum of weights times values, and surfel clusters' weights can be negative (their
+  // higher harmonics), so its mean is clamped at zero as every per-ray radiance is.
   auto updateRow = [&](size_t row, const RGB* g) {
     const size_t b = row / GatherOperator::kRowsPerBlock;
+    const RGB mean = nonNegative(g[0]);
     if (row < n)
       updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
-                 directFront[row] + s.albedo[row] * g[0] * kInvPi);
+                 directFront[row] + s.albedo[row] * mean * kInvPi);
     else if (row < 2 * n)
       updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
-                 directBack[row - n] + s.albedo[row - n] * g[0] * kInvPi);
-    else
-      std::copy(g, g + count, &lvoxelGathered[(row - 2 * n) * count]);
+                 directBack[row - n] + s.albedo[row - n] * mean * kInvPi);
+    else {
+      RGB* out = &lvoxelGathered[(row - 2 * n) * count];
+      std::copy(g, g + count, out);
+      out[0] = mean;
+    }
   };
   for (int pass = 0; pass < passes; ++pass) {
     gathers.valuesInto(cloud, surfelOptions.background, values);  // the snapshot

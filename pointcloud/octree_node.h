@@ -49,43 +49,6 @@ struct TraversalNode {
   uint32_t lvoxelEnd = 0;  // leaves
 };
 
-// A node's surfels seen from far away, without spherical harmonics: a partly covering box.
-// `cover` is the union of squares of side 2 sqrt(area) around the surfels (tilted like
-// the disks; twice the equal-area side so they reach the cell walls between lattice
-// rows), clipped to the node's octree cell: the cover boxes of neighbouring clusters on
-// one surface then nearly tile it.
-// A ray crossing the box is blocked with probability (coverage) blocking(d) / boxArea(d),
-// capped at 1: the projected area of the cluster's disks, D * sqrt(d^T M d) (D = sum of
-// disk areas pi r^2, M = area-weighted mean of n n^T, exact for a flat cluster) over the
-// box's projected area. D is the exact traversal's blocking area for disks that do not
-// overlap (sparse clusters) and exceeds the box for surfaces covered without holes, where
-// the cap gives the exact coverage 1 (the surface's own area, sum pi r^2 / radiusScale^2,
-// would leave 10-20% spurious holes from the lattice's count fluctuations per cell). The
-// cluster sends the area-weighted radiance of the side that faces the viewer; sides are
-// defined by `axis`, the area-weighted mean normal after flipping normals into one
-// hemisphere.
-struct SurfelCluster {
-  Bounds3 cover;
-  Vec3 centroid{0, 0, 0};
-  float area = 0.0f;      // represented surface area, sum of pi r^2 / radiusScale^2
-  float diskArea = 0.0f;  // sum of pi r^2
-  Vec3 axis{0, 0, 1};
-  float moment[6] = {0, 0, 0, 0, 0, 0};  // xx, yy, zz, xy, xz, yz of mean n n^T
-  RGB radianceFront{0, 0, 0};            // seen from the side `axis` points to
-  RGB radianceBack{0, 0, 0};
-  float projectedFraction(const Vec3& d) const {
-    const float q = moment[0] * d.x * d.x + moment[1] * d.y * d.y + moment[2] * d.z * d.z +
-                    2.0f * (moment[3] * d.x * d.y + moment[4] * d.x * d.z + moment[5] * d.y * d.z);
-    return std::sqrt(std::max(q, 0.0f));
-  }
-  float coverage(const Vec3& d) const {
-    const Vec3 e = cover.diagonal();
-    const float box =
-        std::abs(d.x) * e.y * e.z + std::abs(d.y) * e.x * e.z + std::abs(d.z) * e.x * e.y;
-    return box > 0.0f ? std::min(1.0f, diskArea * projectedFraction(d) / box) : 0.0f;
-  }
-};
-
 // A node's lvoxels seen from far away: one homogeneous cube of the lvoxels' total volume
 // at their volume-weighted centroid, with the same total extinction cross-section
 // sum(sigma_t V) (so its optical depth integrated over its projected area is exact: the

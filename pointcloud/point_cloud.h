@@ -8,6 +8,7 @@
 
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/octree_node.h"
+#include "pointcloud/surfel_cluster.h"
 #include "pointcloud/surfels.h"
 #include "src/core/spherical_harmonics.h"
 

@@ -23,7 +23,7 @@
 // Visitor interface (no virtual calls):
 //   void surfel(uint32_t i, float t, bool front);       // opaque, ends traversal
 //   bool lvoxel(uint32_t i, float t0, float t1);        // false stops
-//   bool surfelCluster(uint32_t node, float t, bool front, float coverage);  // partial
+//   bool surfelCluster(uint32_t node, float t, float coverage);  // partial
 //   bool lvoxelCluster(uint32_t node, float t0, float t1);  // false stops
 #include <algorithm>
 #include <array>
@@ -184,8 +184,8 @@ struct SlabRay {
 // so it is compiled for AVX here and chosen at run time): Embree does the same.
 template <int W>
 __attribute__((target("avx"), noinline)) uint32_t intersectChildrenAvx(const ChildBlock<W>& b,
-                                                                       const SlabRay& r,
-                                                                       float tmax, float* entry) {
+                                                                       const SlabRay& r, float tmax,
+                                                                       float* entry) {
   __m256 origin[3], inv[3];
   for (int a = 0; a < 3; ++a) {
     origin[a] = _mm256_set_m128(r.origin[a], r.origin[a]);
@@ -201,8 +201,10 @@ __attribute__((target("avx"), noinline)) uint32_t intersectChildrenAvx(const Chi
                         _mm_setzero_si128())));
     __m256 t0 = near, t1 = far;
     for (int a = 0; a < 3; ++a) {
-      const __m256 tn = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.lo[a][h]), origin[a]), inv[a]);
-      const __m256 tf = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.hi[a][h]), origin[a]), inv[a]);
+      const __m256 tn =
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.lo[a][h]), origin[a]), inv[a]);
+      const __m256 tf =
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(&b.hi[a][h]), origin[a]), inv[a]);
       t0 = _mm256_max_ps(_mm256_min_ps(tf, tn), t0);
       t1 = _mm256_min_ps(_mm256_max_ps(tn, tf), t1);
     }
@@ -309,7 +311,8 @@ inline void intersectDisks4(const DiskElement* d, const DiskRay& r, DiskHits4& o
   const __m128 qx = _mm_sub_ps(_mm_add_ps(r.origin[0], _mm_mul_ps(r.dir[0], tv)), px);
   const __m128 qy = _mm_sub_ps(_mm_add_ps(r.origin[1], _mm_mul_ps(r.dir[1], tv)), py);
   const __m128 qz = _mm_sub_ps(_mm_add_ps(r.origin[2], _mm_mul_ps(r.dir[2], tv)), pz);
-  const __m128 qq = _mm_add_ps(_mm_add_ps(_mm_mul_ps(qx, qx), _mm_mul_ps(qy, qy)), _mm_mul_ps(qz, qz));
+  const __m128 qq =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(qx, qx), _mm_mul_ps(qy, qy)), _mm_mul_ps(qz, qz));
   const __m128 absDenom = _mm_andnot_ps(_mm_set1_ps(-0.0f), denom);
   __m128 hit = _mm_cmpnlt_ps(absDenom, _mm_set1_ps(1e-12f));  // !(|denom| < 1e-12)
   hit = _mm_and_ps(hit, _mm_and_ps(_mm_cmpgt_ps(tv, r.tmin), _mm_cmplt_ps(tv, r.tmax)));
@@ -353,8 +356,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
     if (c.cover.intersect(ray, t0, t1)) {
       const float coverage = c.coverage(ray.dir);
       if (coverage > 0.0f)
-        pushEntry(heap, {std::max(t0, entry), t0, coverage, n, HitKind::SurfelCluster,
-                         dot(c.axis, ray.dir) < 0.0f});
+        pushEntry(heap, {std::max(t0, entry), t0, coverage, n, HitKind::SurfelCluster, false});
     }
   }
 }
@@ -366,7 +368,8 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
 inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ray& ray,
                              bool surfels, TraversalScratch& s) {
   const DiskElement* disks = pc.disks().data();
-  const uint32_t begin = leaf.ref & OctreeChildren::kIndexMask, end = surfels ? leaf.surfelEnd : begin;
+  const uint32_t begin = leaf.ref & OctreeChildren::kIndexMask,
+                 end = surfels ? leaf.surfelEnd : begin;
   s.stats.elementsTested += end - begin;
   auto push = [&](uint32_t i, float t, bool front) {
     if (disks[i].flags & (front ? 1u : 2u)) return;
@@ -467,7 +470,7 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
         return;
       case HitKind::SurfelCluster:
         ++scratch.stats.elementsVisited;
-        if (!visitor.surfelCluster(e.id, e.t0, e.front, e.t1)) return;
+        if (!visitor.surfelCluster(e.id, e.t0, e.t1)) return;
         break;
       case HitKind::Lvoxel:
         ++scratch.stats.elementsVisited;
@@ -517,8 +520,8 @@ struct NearestDisk {
   DiskCandidate best;
   std::array<DiskCandidate, kMaxTies> ties;  // every candidate with f == best.f (not zeroed)
   int tieCount = 0;
-  bool lvoxels = false;          // a node with lvoxels was reached ...
-  float nearestLvoxels = kInf;   // ... the least key of those
+  bool lvoxels = false;         // a node with lvoxels was reached ...
+  float nearestLvoxels = kInf;  // ... the least key of those
 
   float bound() const { return limit; }
   void noteLvoxels(float key) {
@@ -621,8 +624,9 @@ inline void prefetchDisks(const DiskElement* d, uint32_t count) {
 // (nearest first, their disk loads started together so that the misses overlap), and
 // inner children are pushed nearest on top.
 inline void openBlock(const PointCloud& pc, const WideChildren& block, const SlabRay& slab,
-                      const Ray& ray, NearestDisk& nearest, std::array<StackEntry, kStackSize>& stack,
-                      size_t& size, TraversalStats& stats) {
+                      const Ray& ray, NearestDisk& nearest,
+                      std::array<StackEntry, kStackSize>& stack, size_t& size,
+                      TraversalStats& stats) {
   alignas(32) float entry[WideChildren::kWidth];
   std::array<StackEntry, WideChildren::kWidth> leaves;
   size_t leafCount = 0;

@@ -30,6 +30,9 @@ inline Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.
 
 inline float maxComponent(const RGB& c) { return std::max(c.x, std::max(c.y, c.z)); }
 inline float average(const RGB& c) { return (c.x + c.y + c.z) / 3.0f; }
+inline RGB nonNegative(const RGB& c) {
+  return {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)};
+}
 inline bool isBlack(const RGB& c) { return c.x == 0.0f && c.y == 0.0f && c.z == 0.0f; }
 inline bool isFinite(const RGB& c) {
   return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);

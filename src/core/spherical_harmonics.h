@@ -46,7 +46,7 @@ inline void shBasis(const Vec3& d, int count, float* y) {
 inline RGB shDot(const RGB* c, const float* y, int count) {
   RGB sum = c[0] * y[0];
   for (int k = 1; k < count; ++k) sum += c[k] * y[k];
-  return {std::max(sum.x, 0.0f), std::max(sum.y, 0.0f), std::max(sum.z, 0.0f)};
+  return nonNegative(sum);
 }
 
 }  // namespace lvox

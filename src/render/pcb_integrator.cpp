@@ -279,7 +279,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   {
     PhaseTimer timer(report, "octree_build");
     OctreeSettings octree;
-    octree.surfelClusters = settings.clusterSolidAngle > 0.0f;  // else never read
+    // Surfel clusters are read by gathers that find surfaces in the cloud only.
+    octree.surfelClusters =
+        settings.clusterSolidAngle > 0.0f && settings.gatherVisibility == GatherVisibility::kCloud;
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
     if (settings.gatherVisibility == GatherVisibility::kRays)
       cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);

@@ -16,7 +16,7 @@ struct OpticalDepth {
   double tau = 0.0;
   int clusters = 0;
   void surfel(uint32_t, float, bool) {}
-  bool surfelCluster(uint32_t, float, bool, float) { return true; }
+  bool surfelCluster(uint32_t, float, float) { return true; }
   bool lvoxel(uint32_t i, float t0, float t1) {
     tau += cloud.lvoxels().sigmaT(i).x * (t1 - t0);
     return true;

@@ -36,8 +36,8 @@ struct CallLog {
     return static_cast<int>(calls.size()) != stopAt;
   }
   void surfel(uint32_t i, float t, bool front) { record(HitKind::Surfel, i, t, t, front); }
-  bool surfelCluster(uint32_t n, float t, bool front, float c) {
-    return record(HitKind::SurfelCluster, n, t, c, front);
+  bool surfelCluster(uint32_t n, float t, float c) {
+    return record(HitKind::SurfelCluster, n, t, c, false);
   }
   bool lvoxel(uint32_t i, float t0, float t1) { return record(HitKind::Lvoxel, i, t0, t1, false); }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {

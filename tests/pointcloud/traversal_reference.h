@@ -43,8 +43,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
     if (c.cover.intersect(ray, t0, t1)) {
       const float coverage = c.coverage(ray.dir);
       if (coverage > 0.0f)
-        pushEntry(heap, {std::max(t0, entry), t0, coverage, n, HitKind::SurfelCluster,
-                         dot(c.axis, ray.dir) < 0.0f});
+        pushEntry(heap, {std::max(t0, entry), t0, coverage, n, HitKind::SurfelCluster, false});
     }
   }
 }
@@ -110,7 +109,7 @@ void traverse(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOp
         return;
       case HitKind::SurfelCluster:
         ++scratch.stats.elementsVisited;
-        if (!visitor.surfelCluster(e.id, e.t0, e.front, e.t1)) return;
+        if (!visitor.surfelCluster(e.id, e.t0, e.t1)) return;
         break;
       case HitKind::Lvoxel:
         ++scratch.stats.elementsVisited;

@@ -71,7 +71,7 @@ struct HashSink {
     hash = mixHash(hash, std::bit_cast<uint32_t>(w.z));
   }
   void surfel(uint32_t i, bool front, const RGB& w) { add(front ? 1 : 2, i, w); }
-  void surfelCluster(uint32_t n, bool front, const RGB& w) { add(front ? 3 : 4, n, w); }
+  void surfelCluster(uint32_t n, const RGB& w) { add(3, n, w); }
   void lvoxel(uint32_t i, const RGB& w) { add(5, i, w); }
   void lvoxelCluster(uint32_t n, const RGB& w) { add(6, n, w); }
   void beginRay(const Vec3&) {}

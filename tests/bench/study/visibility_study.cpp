@@ -32,7 +32,7 @@ struct FirstDisk {
     front = f;
   }
   bool lvoxel(uint32_t, float, float) { return true; }
-  bool surfelCluster(uint32_t, float, bool, float) { return true; }
+  bool surfelCluster(uint32_t, float, float) { return true; }
   bool lvoxelCluster(uint32_t, float, float) { return true; }
 };
 
