@@ -74,16 +74,15 @@ Bounds3 squareBounds(const Vec3& p, const Vec3& n, float side) {
 }
 
 struct LvoxelSums {
-  float volume = 0.0f;
-  Vec3 weightedPosition{0, 0, 0};
+  Bounds3 box;
   RGB crossSection{0, 0, 0};  // sum sigma_t V
   RGB weightedSource[kShCoefficients];
 
   LvoxelSums() { std::fill(weightedSource, weightedSource + kShCoefficients, RGB(0.0f)); }
 
-  void add(const Vec3& p, float v, const RGB& xs, const RGB* source, int count) {
-    volume += v;
-    weightedPosition += p * v;
+  // An lvoxel's cube (or a child cluster's box) of cross-section xs.
+  void add(const Bounds3& b, const RGB& xs, const RGB* source, int count) {
+    box.extend(b);
     crossSection += xs;
     for (int k = 0; k < count; ++k) weightedSource[k] += xs * source[k];
   }
@@ -92,9 +91,10 @@ struct LvoxelSums {
   LvoxelCluster finish(RGB* source, int count) const {
     LvoxelCluster c;
     for (int k = 0; k < count; ++k) source[k] = RGB(0.0f);
-    if (volume <= 0.0f) return c;
-    c.centroid = weightedPosition / volume;
-    c.halfSize = 0.5f * std::cbrt(volume);
+    const Vec3 e = box.diagonal();
+    const float volume = e.x * e.y * e.z;
+    if (!(volume > 0.0f)) return c;
+    c.box = box;
     c.sigmaT = crossSection / volume;
     for (int k = 0; k < count; ++k)
       for (int ch = 0; ch < 3; ++ch)
@@ -129,22 +129,23 @@ void PointCloud::updateAggregates() {
           ss.diskArea += kPi * surfels_.radius[s] * surfels_.radius[s];
         }
         for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l) {
-          const float v = lvoxels_.volume(l);
           RGB source[kShCoefficients];
           lvoxels_.sourceCoefficients(l, source);
-          ls.add(lvoxels_.position[l], v, lvoxels_.sigmaT(l) * v, source, count);
+          const float h = lvoxels_.halfSize[l];
+          Bounds3 cube;
+          cube.lo = lvoxels_.position[l] - Vec3(h, h, h);
+          cube.hi = lvoxels_.position[l] + Vec3(h, h, h);
+          ls.add(cube, lvoxels_.sigmaT(l) * lvoxels_.volume(l), source, count);
         }
       } else {
         for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
           if (surfelClusters) ss.addCluster(surfelClusters_[c]);
           const LvoxelCluster& lc = lvoxelClusters_[c];
-          const float side = 2.0f * lc.halfSize;
-          const float v = side * side * side;
-          if (v > 0.0f)
-            ls.add(
-                lc.centroid, v, lc.sigmaT * v,
-                count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
-                count);
+          if (lc.empty()) continue;
+          const Vec3 e = lc.box.diagonal();
+          ls.add(lc.box, lc.sigmaT * (e.x * e.y * e.z),
+                 count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
+                 count);
         }
       }
       if (surfelClusters && node.isLeaf()) {
@@ -158,18 +159,11 @@ void PointCloud::updateAggregates() {
       }
       if (surfelClusters) surfelClusters_[i] = ss.finish();
       // The traversal enters a node only through its bounds: they must hold the cluster
-      // proxies too (the cover box may reach past the disks into the cell's gaps, the
-      // lvoxel cube of a partly filled node past its lvoxels). Bounds only grow,
-      // so repeated updates are idempotent.
+      // proxies too (the cover box may reach past the disks into the cell's gaps; the
+      // lvoxel box is the lvoxels' bounds, inside already). Bounds only grow, so repeated
+      // updates are idempotent.
       OctreeNode& mutableNode = nodes_[i];
       if (ss.area > 0.0f) mutableNode.bounds.extend(ss.cover);
-      const LvoxelCluster& lc = lvoxelClusters_[i];
-      if (lc.halfSize > 0.0f) {
-        Bounds3 cube;
-        cube.lo = lc.centroid - Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
-        cube.hi = lc.centroid + Vec3(lc.halfSize, lc.halfSize, lc.halfSize);
-        mutableNode.bounds.extend(cube);
-      }
       for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
         mutableNode.bounds.extend(nodes_[c].bounds);
       RGB source[kShCoefficients];

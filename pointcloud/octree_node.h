@@ -49,16 +49,20 @@ struct TraversalNode {
   uint32_t lvoxelEnd = 0;  // leaves
 };
 
-// A node's lvoxels seen from far away: one homogeneous cube of the lvoxels' total volume
-// at their volume-weighted centroid, with the same total extinction cross-section
-// sum(sigma_t V) (so its optical depth integrated over its projected area is exact: the
-// integral of the chord over any projection of a convex body is its volume) and the
-// cross-section-weighted mean source radiance. A full cell's cluster is the cell itself.
+// A node's lvoxels seen from far away: one homogeneous box, the bounds of their cubes,
+// with the same total extinction cross-section sum(sigma_t V) (so its optical depth
+// integrated over its projected area is exact: the integral of the chord over any
+// projection of a convex body is its volume) and the cross-section-weighted mean source
+// radiance. A full cell's cluster is the cell itself; a thin layer's is the layer. The box
+// lies inside the node's bounds, which every ray into the cluster crosses. (Until stop 26
+// it was a cube of the lvoxels' volume at their centroid, which reached past the lvoxels
+// of a partly filled node, outside its bounds: rays through a thin layer along its plane
+// saw 32 % of its cross-section, docs/results.md.)
 struct LvoxelCluster {
-  Vec3 centroid{0, 0, 0};
-  float halfSize = 0.0f;
-  RGB sigmaT{0, 0, 0};  // cross-section / cube volume
+  Bounds3 box;
+  RGB sigmaT{0, 0, 0};  // cross-section / box volume
   RGB sourceRadiance{0, 0, 0};
+  bool empty() const { return !(box.lo.x < box.hi.x); }
 };
 
 }  // namespace lvox

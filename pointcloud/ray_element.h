@@ -60,25 +60,29 @@ inline bool intersectDisk(const Ray& ray, const DiskElement& d, const DiskClip& 
   return true;
 }
 
-// Chord [t0, t1] of the ray inside the cube centre +- h, clipped to [tmin, tmax]. A ray
-// parallel to a face and lying exactly in it belongs to the cube on the + side only
+// Chord [t0, t1] of the ray inside the box [lo, hi], clipped to [tmin, tmax]. A ray
+// parallel to a face and lying exactly in it belongs to the box on the + side only
 // (half-open), so rays along grid planes are not counted in two neighbouring lvoxels.
-inline bool intersectCube(const Ray& ray, const Vec3& c, float h, float& t0, float& t1) {
+inline bool intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, float& t0, float& t1) {
   t0 = ray.tmin;
   t1 = ray.tmax;
   for (int a = 0; a < 3; ++a) {
-    const float lo = c[a] - h, hi = c[a] + h;
     if (ray.dir[a] == 0.0f) {
-      if (ray.origin[a] < lo || ray.origin[a] >= hi) return false;
+      if (ray.origin[a] < lo[a] || ray.origin[a] >= hi[a]) return false;
       continue;
     }
     const float inv = 1.0f / ray.dir[a];
-    float tn = (lo - ray.origin[a]) * inv, tf = (hi - ray.origin[a]) * inv;
+    float tn = (lo[a] - ray.origin[a]) * inv, tf = (hi[a] - ray.origin[a]) * inv;
     if (tn > tf) std::swap(tn, tf);
     t0 = std::max(t0, tn);
     t1 = std::min(t1, tf);
   }
   return t1 > t0;
+}
+
+// The same for the cube centre +- h.
+inline bool intersectCube(const Ray& ray, const Vec3& c, float h, float& t0, float& t1) {
+  return intersectBox(ray, c - Vec3(h, h, h), c + Vec3(h, h, h), t0, t1);
 }
 
 // An lvoxel's cube packed for the traversal (LvoxelSet keeps centre and size apart).

@@ -34,7 +34,7 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
   if (node.lvoxelEnd > node.lvoxelBegin) {
     const LvoxelCluster& c = pc.lvoxelClusters()[n];
     float t0, t1;
-    if (intersectCube(ray, c.centroid, c.halfSize, t0, t1))
+    if (intersectBox(ray, c.box.lo, c.box.hi, t0, t1))
       pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
   }
   if (surfels && node.surfelEnd > node.surfelBegin) {
