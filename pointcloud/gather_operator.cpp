@@ -1,5 +1,7 @@
 #include "pointcloud/gather_operator.h"
 
+#include <cmath>
+
 namespace lvox {
 
 GatherColumns::GatherColumns(const PointCloud& cloud)
@@ -78,14 +80,18 @@ void GatherOperator::store(const std::vector<GatherEntry>& entries, Block& block
     return e.weight.x == e.weight.y && e.weight.x == e.weight.z;
   });
   block.column.resize(entries.size());
-  if (grey)
+  if (grey) {
+    float largest = 0.0f;
+    for (const GatherEntry& e : entries) largest = std::max(largest, std::abs(e.weight.x));
+    block.greyScale = largest > 0.0f ? largest : 1.0f;
     block.greyWeight.resize(entries.size());
-  else
+  } else {
     block.colourWeight.resize(entries.size());
+  }
   for (size_t e = 0; e < entries.size(); ++e) {
     block.column[e] = entries[e].column;
     if (grey)
-      block.greyWeight[e] = entries[e].weight.x;
+      block.greyWeight[e] = Imath::half(entries[e].weight.x / block.greyScale);
     else
       block.colourWeight[e] = entries[e].weight;
   }
@@ -103,7 +109,8 @@ size_t GatherOperator::entries() const {
 size_t GatherOperator::memoryBytes() const {
   size_t bytes = 0;
   for (const Block& b : blocks_)
-    bytes += b.column.capacity() * sizeof(uint32_t) + b.greyWeight.capacity() * sizeof(float) +
+    bytes += b.column.capacity() * sizeof(uint32_t) +
+             b.greyWeight.capacity() * sizeof(Imath::half) +
              b.colourWeight.capacity() * sizeof(RGB) + b.rowEnd.capacity() * sizeof(uint32_t) +
              b.rayEnd.capacity() * sizeof(uint32_t) + b.rayDirection.capacity() * sizeof(Vec3);
   return bytes;

@@ -6,6 +6,7 @@
 // once and keeping the weights turns each further interreflection pass into a sparse
 // matrix-vector product: passes no longer traverse the octree, so converging the bounce
 // series costs little more than its first pass.
+#include <Imath/half.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -144,13 +145,22 @@ class GatherOperator {
   const GatherColumns& columns() const { return columns_; }
 
  private:
-  // A block's weights are stored grey (one float) when all of them are: media with a
-  // colourless extinction (and no media at all) give grey weights, and a float per entry
-  // halves the operator, its largest memory item (issue 13: bytes per element).
+  // A block's weights are stored grey when all of them are (media with a colourless
+  // extinction, and no media at all, give grey weights), as half floats relative to the
+  // block's largest: 2 bytes per entry instead of 12, on the operator, the largest memory
+  // item (issue 13: bytes per element). A half keeps 11 bits, so a weight is rounded by at
+  // most 2^-11 of itself, or 2^-25 of the block's largest where it is below 2^-14 of it
+  // (subnormal); the block's rows (neighbouring elements of one kind) share a scale.
+  struct GreyWeights {
+    const Imath::half* weight;
+    float scale;
+    float operator[](size_t e) const { return static_cast<float>(weight[e]) * scale; }
+  };
   struct Block {
     std::vector<uint32_t> rowEnd;  // entries (directional: rays) of row k end at rowEnd[k]
     std::vector<uint32_t> column;
-    std::vector<float> greyWeight;   // either this ...
+    std::vector<Imath::half> greyWeight;  // either this, times greyScale ...
+    float greyScale = 1.0f;
     std::vector<RGB> colourWeight;   // ... or this holds the weights
     std::vector<uint32_t> rayEnd;    // directional: entries of ray j end at rayEnd[j] ...
     std::vector<Vec3> rayDirection;  // ... and it goes this way
@@ -202,7 +212,8 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
     store(entries, block);
     Progress::global().advance(end - begin);
     if (reserve)
-      reserve(block.column.size() * sizeof(uint32_t) + block.greyWeight.size() * sizeof(float) +
+      reserve(block.column.size() * sizeof(uint32_t) +
+              block.greyWeight.size() * sizeof(Imath::half) +
               block.colourWeight.size() * sizeof(RGB) + block.rowEnd.size() * sizeof(uint32_t) +
               block.rayEnd.size() * sizeof(uint32_t) + block.rayDirection.size() * sizeof(Vec3));
   });
@@ -261,7 +272,8 @@ void GatherOperator::forEachRow(const GatherValues& values, Sink&& sink) const {
     }
     const Block& block = blocks_[b];
     if (block.colourWeight.empty())
-      applyBlock(block, block.greyWeight, b * kRowsPerBlock, values, sink);
+      applyBlock(block, GreyWeights{block.greyWeight.data(), block.greyScale}, b * kRowsPerBlock,
+                 values, sink);
     else
       applyBlock(block, block.colourWeight, b * kRowsPerBlock, values, sink);
   });

@@ -31,10 +31,11 @@ float surfelSpacing(const World& world, const PointCloudSettings& settings) {
 // (docs/results.md, "Scale and memory": 954 MB peak, 320 bytes per surfel in all): beside
 // the interreflection weights, a surfel costs about 250 bytes at the peak (itself, its
 // share of the octree and its packed disk, the surfel lookup, the passes' snapshot and
-// direct copies); a weight 8 bytes, about 1.2 per surfel gather ray and 16 per lvoxel
-// gather ray (grey weights; coloured ones take 16 bytes and are reserved as they are
-// stored). The sampler adds border sites: up to 15 % more surfels than area / spacing^2.
-constexpr double kBytesPerSurfel = 250.0, kBytesPerLvoxel = 250.0, kBytesPerWeight = 8.0;
+// direct copies); a weight 6 bytes (its column and a half float), about 1.2 per surfel
+// gather ray and 16 per lvoxel gather ray (grey weights; coloured ones take 16 bytes and
+// are reserved as they are stored). The sampler adds border sites: up to 15 % more surfels than
+// area / spacing^2.
+constexpr double kBytesPerSurfel = 250.0, kBytesPerLvoxel = 250.0, kBytesPerWeight = 6.0;
 constexpr double kWeightsPerSurfelRay = 1.2, kWeightsPerLvoxelRay = 16.0, kBorderSites = 1.15;
 // Directional lvoxels (anisotropic media) add 8 coefficients per colour in each of their
 // cell's three light arrays (288 bytes) and in their share of the clusters (about 0.3 node
