@@ -109,10 +109,11 @@ struct LvoxelSums {
 void PointCloud::updateAggregates() {
   const bool surfelClusters = keepSurfelClusters_;
   surfelClusters_.assign(surfelClusters ? nodes_.size() : 0, SurfelCluster{});
-  lvoxelClusters_.assign(nodes_.size(), LvoxelCluster{});
+  lvoxelClusters_.assign(lvoxelClusterCount_, LvoxelCluster{});
   // Directional lvoxels: every cluster's coefficients (the first is sourceRadiance).
   const int count = lvoxels_.light.coefficients();
-  lvoxelClusterCoefficients_.assign(count > 1 ? nodes_.size() * kShCoefficients : 0, RGB(0.0f));
+  lvoxelClusterCoefficients_.assign(count > 1 ? size_t(lvoxelClusterCount_) * kShCoefficients : 0,
+                                    RGB(0.0f));
   if (nodes_.empty()) return;
   for (size_t level = levelBegin_.size() - 1; level-- > 0;) {
     tbb::parallel_for(levelBegin_[level], levelBegin_[level + 1], [&](uint32_t i) {
@@ -140,12 +141,11 @@ void PointCloud::updateAggregates() {
       } else {
         for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c) {
           if (surfelClusters) ss.addCluster(surfelClusters_[c]);
-          const LvoxelCluster& lc = lvoxelClusters_[c];
-          if (lc.empty()) continue;
+          const uint32_t k = lvoxelClusterOf_[c];
+          if (k == kNoLvoxelCluster || lvoxelClusters_[k].empty()) continue;
+          const LvoxelCluster& lc = lvoxelClusters_[k];
           const Vec3 e = lc.box.diagonal();
-          ls.add(lc.box, lc.sigmaT * (e.x * e.y * e.z),
-                 count > 1 ? &lvoxelClusterCoefficients_[c * kShCoefficients] : &lc.sourceRadiance,
-                 count);
+          ls.add(lc.box, lc.sigmaT * (e.x * e.y * e.z), lvoxelClusterCoefficients(k), count);
         }
       }
       if (surfelClusters && node.isLeaf()) {
@@ -166,11 +166,13 @@ void PointCloud::updateAggregates() {
       if (ss.area > 0.0f) mutableNode.bounds.extend(ss.cover);
       for (uint32_t c = node.childBegin; c < node.childBegin + node.childCount; ++c)
         mutableNode.bounds.extend(nodes_[c].bounds);
+      const uint32_t k = lvoxelClusterOf_[i];
+      if (k == kNoLvoxelCluster) return;
       RGB source[kShCoefficients];
-      lvoxelClusters_[i] = ls.finish(source, count);
+      lvoxelClusters_[k] = ls.finish(source, count);
       if (count > 1)
         std::copy(source, source + kShCoefficients,
-                  &lvoxelClusterCoefficients_[i * kShCoefficients]);
+                  &lvoxelClusterCoefficients_[size_t(k) * kShCoefficients]);
     });
   }
 }

@@ -41,7 +41,7 @@ struct GatherOptions {
 //   beginRay(dir) (each ray's direction, before its weights: lvoxels in anisotropic
 //   media and surfel clusters send their light by direction), surfel(i, front, w),
 //   surfelCluster(node, w) (w: the coverage's share; the cluster's radiance along the ray
-//   is the sink's to evaluate), lvoxel(i, w), lvoxelCluster(node, w), addBackground(w)
+//   is the sink's to evaluate), lvoxel(i, w), lvoxelCluster(cluster, w), addBackground(w)
 template <class Sink>
 struct GatherRayWeights {
   const PointCloud& cloud;

@@ -46,12 +46,16 @@ class PointCloud {
 
   const std::vector<OctreeNode>& nodes() const { return nodes_; }
   const std::vector<SurfelCluster>& surfelClusters() const { return surfelClusters_; }
+  // The lvoxel clusters of the nodes that hold lvoxels, in node order (most nodes hold
+  // surfels only); lvoxelClusterOf(node) is a node's index in it, or kNoLvoxelCluster.
   const std::vector<LvoxelCluster>& lvoxelClusters() const { return lvoxelClusters_; }
-  // Node n's lvoxel cluster's source coefficients (lvoxels().light.coefficients() of them;
-  // with one, its sourceRadiance).
-  const RGB* lvoxelClusterCoefficients(uint32_t n) const {
-    return lvoxelClusterCoefficients_.empty() ? &lvoxelClusters_[n].sourceRadiance
-                                              : &lvoxelClusterCoefficients_[n * kShCoefficients];
+  static constexpr uint32_t kNoLvoxelCluster = ~0u;
+  uint32_t lvoxelClusterOf(uint32_t node) const { return lvoxelClusterOf_[node]; }
+  // Lvoxel cluster c's source coefficients (lvoxels().light.coefficients() of them; with
+  // one, its sourceRadiance).
+  const RGB* lvoxelClusterCoefficients(uint32_t c) const {
+    return lvoxelClusterCoefficients_.empty() ? &lvoxelClusters_[c].sourceRadiance
+                                              : &lvoxelClusterCoefficients_[c * kShCoefficients];
   }
   bool hasSurfelClusters() const { return keepSurfelClusters_; }
   bool empty() const { return nodes_.empty(); }
@@ -80,9 +84,10 @@ class PointCloud {
   size_t memoryBytes() const { return memory().total(); }
   // The traversal layout's share of memory().octreeBytes.
   size_t traversalBytes() const;
-  // Nodes, their cells and their cluster aggregates, per node.
+  // Nodes, their cells and their cluster aggregates, per node (lvoxel clusters apart:
+  // only nodes that hold lvoxels have one).
   size_t bytesPerNode() const {
-    return sizeof(OctreeNode) + sizeof(LvoxelCluster) +
+    return sizeof(OctreeNode) + sizeof(uint32_t) +
            (keepSurfelClusters_ ? sizeof(Bounds3) + sizeof(SurfelCluster) : 0);
   }
 
@@ -90,6 +95,7 @@ class PointCloud {
   void build(const OctreeSettings& settings);
   void computeBounds();
   void buildTraversalLayout();
+  void assignLvoxelClusters();
 
   SurfelSet surfels_;
   LvoxelSet lvoxels_;
@@ -98,8 +104,10 @@ class PointCloud {
   std::vector<Bounds3> cells_;        // each node's exact octree cell (cells of a level tile space)
   std::vector<uint32_t> levelBegin_;  // nodes of depth d are [levelBegin_[d], levelBegin_[d+1])
   std::vector<SurfelCluster> surfelClusters_;
+  std::vector<uint32_t> lvoxelClusterOf_;  // per node
+  uint32_t lvoxelClusterCount_ = 0;
   std::vector<LvoxelCluster> lvoxelClusters_;
-  std::vector<RGB> lvoxelClusterCoefficients_;  // kShCoefficients per node, directional only
+  std::vector<RGB> lvoxelClusterCoefficients_;  // kShCoefficients per cluster, directional only
   std::vector<OctreeChildren> childBlocks_;
   std::vector<WideChildren> wideBlocks_;
   std::vector<TraversalNode> traversalNodes_;

@@ -154,14 +154,21 @@ PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSetting
       keepSurfelClusters_(settings.surfelClusters) {
   build(settings);
   computeBounds();
-  // The aggregates grow the node bounds to hold the cluster proxies; a node's own lvoxel
-  // cube is the one of the previous update, so the bounds (geometry only) are final after
-  // the second update, and the traversal layout copies them then. Renders always updated
-  // twice before tracing (cacheDirectLight updates again), so their bounds are unchanged.
-  updateAggregates();
+  assignLvoxelClusters();
+  // The aggregates grow the node bounds to hold the surfel cluster covers, which depend on
+  // the geometry only: the bounds are final after this update, and the traversal layout
+  // copies them. (Lvoxel cluster boxes lie inside the bounds already.)
   updateAggregates();
   buildTraversalLayout();
   if (!keepSurfelClusters_) std::vector<Bounds3>().swap(cells_);  // only the covers use them
+}
+
+void PointCloud::assignLvoxelClusters() {
+  lvoxelClusterOf_.assign(nodes_.size(), kNoLvoxelCluster);
+  uint32_t count = 0;
+  for (size_t n = 0; n < nodes_.size(); ++n)
+    if (nodes_[n].lvoxelEnd > nodes_[n].lvoxelBegin) lvoxelClusterOf_[n] = count++;
+  lvoxelClusterCount_ = count;
 }
 
 bool PointCloud::traversalLayoutMatchesNodes() const {
@@ -347,6 +354,7 @@ PointCloudMemory PointCloud::memory() const {
                   surfelClusters_.size() * sizeof(SurfelCluster) +
                   lvoxelClusters_.size() * sizeof(LvoxelCluster) +
                   lvoxelClusterCoefficients_.size() * sizeof(RGB) +
+                  lvoxelClusterOf_.size() * sizeof(uint32_t) +
                   levelBegin_.size() * sizeof(uint32_t) + traversalBytes();
   return m;
 }

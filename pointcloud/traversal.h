@@ -24,7 +24,8 @@
 //   void surfel(uint32_t i, float t, bool front);       // opaque, ends traversal
 //   bool lvoxel(uint32_t i, float t0, float t1);        // false stops
 //   bool surfelCluster(uint32_t node, float t, float coverage);  // partial
-//   bool lvoxelCluster(uint32_t node, float t0, float t1);  // false stops
+//   bool lvoxelCluster(uint32_t cluster, float t0, float t1);  // false stops
+//                          (cluster: the index in PointCloud::lvoxelClusters())
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -344,10 +345,11 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
                          bool surfels, TraversalHeap& heap) {
   const OctreeNode& node = pc.nodes()[n];
   if (node.lvoxelEnd > node.lvoxelBegin) {
-    const LvoxelCluster& c = pc.lvoxelClusters()[n];
+    const uint32_t k = pc.lvoxelClusterOf(n);
+    const LvoxelCluster& c = pc.lvoxelClusters()[k];
     float t0, t1;
     if (intersectBox(ray, c.box.lo, c.box.hi, t0, t1))
-      pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
+      pushEntry(heap, {std::max(t0, entry), t0, t1, k, HitKind::LvoxelCluster, false});
   }
   if (surfels && node.surfelEnd > node.surfelBegin) {
     LVOX_DCHECK(pc.hasSurfelClusters(), "surfel clusters used but not kept (OctreeSettings)");

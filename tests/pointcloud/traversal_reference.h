@@ -32,10 +32,11 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
                          bool surfels, std::vector<TraversalEntry>& heap) {
   const OctreeNode& node = pc.nodes()[n];
   if (node.lvoxelEnd > node.lvoxelBegin) {
-    const LvoxelCluster& c = pc.lvoxelClusters()[n];
+    const uint32_t k = pc.lvoxelClusterOf(n);
+    const LvoxelCluster& c = pc.lvoxelClusters()[k];
     float t0, t1;
     if (intersectBox(ray, c.box.lo, c.box.hi, t0, t1))
-      pushEntry(heap, {std::max(t0, entry), t0, t1, n, HitKind::LvoxelCluster, false});
+      pushEntry(heap, {std::max(t0, entry), t0, t1, k, HitKind::LvoxelCluster, false});
   }
   if (surfels && node.surfelEnd > node.surfelBegin) {
     const SurfelCluster& c = pc.surfelClusters()[n];
