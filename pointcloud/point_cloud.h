@@ -68,7 +68,13 @@ class PointCloud {
   const std::vector<WideChildren>& wideBlocks() const { return wideBlocks_; }
   const std::vector<TraversalNode>& traversalNodes() const { return traversalNodes_; }
   const std::vector<DiskElement>& disks() const { return disks_; }
-  const DiskClip& diskClip(uint32_t surfel) const { return surfels_.clip[surfel]; }
+  // A surfel's border cut (one that removes nothing where it has none): only the disks that
+  // are cut keep one, so surfels().clip is empty once the cloud is built.
+  const DiskClip& diskClip(uint32_t surfel) const {
+    static const DiskClip kNone{};
+    const uint32_t flags = disks_[surfel].flags;
+    return (flags & DiskElement::kClipped) ? clips_[flags >> DiskElement::kClipShift] : kNone;
+  }
   const std::vector<CubeElement>& cubes() const { return cubes_; }
   // The root as the nearest-disk search starts from it (a WideChildren reference).
   uint32_t searchRoot(uint32_t& surfelEnd) const;
@@ -112,6 +118,7 @@ class PointCloud {
   std::vector<WideChildren> wideBlocks_;
   std::vector<TraversalNode> traversalNodes_;
   std::vector<DiskElement> disks_;
+  std::vector<DiskClip> clips_;  // the cuts of the disks that have one
   std::vector<CubeElement> cubes_;
 };
 

@@ -10,6 +10,7 @@
 
 #include "pointcloud/element_bounds.h"
 #include "pointcloud/point_cloud.h"
+#include "src/core/check.h"
 
 namespace lvox {
 
@@ -330,11 +331,21 @@ void PointCloud::buildTraversalLayout() {
   if (!nodes_[0].isLeaf()) buildWideBlocks(nodes_, 0, wideBlocks_);
   // Three empty records past the end: 4-wide tests may read up to 3 disks past a leaf.
   disks_.assign(surfels_.size() + (surfels_.size() > 0 ? 3 : 0), DiskElement{});
-  tbb::parallel_for(size_t(0), surfels_.size(), [&](size_t i) {
-    const uint32_t clipped = DiskElement::cuts(surfels_.clip[i]) ? DiskElement::kClipped : 0u;
+  clips_.clear();
+  for (size_t i = 0; i < surfels_.size(); ++i) {
+    uint32_t clipped = 0;
+    if (i < surfels_.clip.size() && DiskElement::cuts(surfels_.clip[i])) {
+      LVOX_CHECK(clips_.size() < (size_t(1) << (32 - DiskElement::kClipShift)),
+                 "too many cut disks for the traversal layout");
+      clipped =
+          DiskElement::kClipped | static_cast<uint32_t>(clips_.size() << DiskElement::kClipShift);
+      clips_.push_back(surfels_.clip[i]);
+    }
     disks_[i] = {surfels_.position[i], surfels_.radius[i], surfels_.normal[i],
                  (surfels_.enclosedSides[i] & 3u) | clipped};
-  });
+  }
+  clips_.shrink_to_fit();
+  std::vector<DiskClip>().swap(surfels_.clip);  // the layout holds the cuts that cut
   cubes_.resize(lvoxels_.size());
   for (size_t i = 0; i < lvoxels_.size(); ++i)
     cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
@@ -362,7 +373,7 @@ PointCloudMemory PointCloud::memory() const {
 size_t PointCloud::traversalBytes() const {
   return childBlocks_.size() * sizeof(OctreeChildren) + wideBlocks_.size() * sizeof(WideChildren) +
          traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
-         cubes_.size() * sizeof(CubeElement);
+         clips_.size() * sizeof(DiskClip) + cubes_.size() * sizeof(CubeElement);
 }
 
 }  // namespace lvox

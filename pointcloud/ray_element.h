@@ -32,7 +32,10 @@ inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r,
 // leaf's disks are adjacent in memory (the SurfelSet keeps them in five arrays). The cut
 // is read from a side array, and only for disks that have one.
 struct DiskElement {
-  static constexpr uint32_t kClipped = 4;  // flags: bits 0-1 are the enclosed sides
+  // flags: bits 0-1 are the enclosed sides, bit 2 says the disk is cut, and bits 3-31 are
+  // then the index of its cut in PointCloud's list of them.
+  static constexpr uint32_t kClipped = 4;
+  static constexpr uint32_t kClipShift = 3;
   Vec3 position;
   float radius = 0.0f;
   Vec3 normal;

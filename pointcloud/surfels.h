@@ -18,7 +18,8 @@ struct SurfelSet {
   std::vector<uint32_t> triangle;  // source triangle of the scene mesh (for materials)
   // The disk ends at the border of its surface: a disk near a convex edge would otherwise
   // stick out past it and show its other side (the inside of a solid) to gathers from the
-  // adjoining face.
+  // adjoining face. A PointCloud keeps the cuts that cut in its traversal layout
+  // (PointCloud::diskClip) and empties this array.
   std::vector<DiskClip> clip;
   // Sides that face the inside of a solid (bit 0: front, bit 1: back; see
   // buried_surfels.h). No ray from open space reaches them, so a gather ray that does
@@ -52,7 +53,9 @@ struct SurfelSet {
     return 2 * sizeof(Vec3) + sizeof(float) + 3 * sizeof(RGB) + sizeof(uint32_t) +
            sizeof(DiskClip) + sizeof(uint8_t);
   }
-  size_t memoryBytes() const { return size() * bytesPerElement(); }
+  size_t memoryBytes() const {
+    return size() * (bytesPerElement() - sizeof(DiskClip)) + clip.size() * sizeof(DiskClip);
+  }
   // Reorders every array so that new index i holds old element order[i]; an order that
   // lists only some elements keeps only those.
   void permute(const std::vector<uint32_t>& order);

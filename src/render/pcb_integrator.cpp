@@ -226,7 +226,8 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["point_cloud"] = mem.surfelBytes + mem.lvoxelBytes;
   report.memory["octree"] = mem.octreeBytes;
   report.memory["lvoxel_light"] = cloud.lvoxels().light.memoryBytes();
-  report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement();
+  // Without their border cuts: the traversal layout keeps those of the disks that are cut.
+  report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement() - sizeof(DiskClip);
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = cloud.bytesPerNode();
   const uint64_t lookupBytes = cache.lookup ? cache.lookup->memoryBytes() : 0;

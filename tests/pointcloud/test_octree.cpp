@@ -76,7 +76,9 @@ TEST(Octree, NodesPartitionElementsAndBoundsContainThem) {
   }
   EXPECT_EQ(leafElements, 5000u);
   const PointCloudMemory m = pc.memory();
-  EXPECT_EQ(m.surfelBytes, 3000u * SurfelSet::bytesPerElement());
+  // The border cuts move into the traversal layout, only for the disks that are cut.
+  EXPECT_TRUE(pc.surfels().clip.empty());
+  EXPECT_EQ(m.surfelBytes, 3000u * (SurfelSet::bytesPerElement() - sizeof(DiskClip)));
   EXPECT_EQ(m.lvoxelBytes, 2000u * LvoxelSet::bytesPerElement());
   EXPECT_GE(m.octreeBytes, nodes.size() * pc.bytesPerNode());
 }
@@ -128,7 +130,7 @@ std::vector<Visit> bruteForce(const PointCloud& pc, const Ray& ray) {
     Ray r = ray;
     r.tmax = tSurfel;
     if (intersectDisk(r, pc.surfels().position[i], pc.surfels().normal[i], pc.surfels().radius[i],
-                      pc.surfels().clip[i], t, front)) {
+                      pc.diskClip(i), t, front)) {
       tSurfel = t;
       nearest = i;
     }

@@ -56,7 +56,7 @@ inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& 
     ++s.stats.elementsTested;
     float t;
     bool front;
-    if (intersectDisk(ray, sf.position[i], sf.normal[i], sf.radius[i], sf.clip[i], t, front) &&
+    if (intersectDisk(ray, sf.position[i], sf.normal[i], sf.radius[i], pc.diskClip(i), t, front) &&
         !(sf.enclosedSides[i] & (front ? 1u : 2u))) {
       pushEntry(s.heap, {t, t, t, i, HitKind::Surfel, front});
       ray.tmax = t;  // opaque: everything behind is hidden
