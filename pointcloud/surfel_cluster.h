@@ -11,20 +11,22 @@
 // silhouette and the radiance of the faces turned to the viewer.
 //
 // Christensen's cluster radiance is power / area, both truncated to the same bands. For a
-// flat cluster that ratio is wrong by up to 10 % (1/2 + t / (2 |t|_2) at t = cos 0: 0.94;
-// at 60 degrees: 1.09, with |t|_2 = (3 + 15 t^2) / 16 the band-limited |t|), and a wall lit on one
-// side seen from behind shows 6 % of its front's radiance. The band-1 parts are exact
-// (the odd part of max(0, t) is t / 2), the error is all in the even parts. Their
+// flat cluster that ratio is 1/2 + t / (2 |t|_2), with |t|_2 = (3 + 15 t^2) / 16 the
+// band-limited |t|: 0.94 of the radiance seen head-on, 1.09 at 60 degrees, and a wall lit
+// on one side shows 6 % of its front's radiance from behind. The band-1 parts are exact
+// (the odd part of max(0, t) is t / 2); the error is all in the even parts. Their
 // band-limited |t| is undone with the cluster's exact projected area, which the coverage
-// uses anyway: for any cluster the truncated two-sided area is
-// area (3 + 15 q) / 16 with q = w^T M w (M the mean n n^T: the band-2 sum of a surfel is
-// 5 P2(n.w), linear in n n^T), the projection of the disks is area sqrt(q) (exact for
-// flat clusters), so the even parts are scaled by 16 sqrt(q) / (3 + 15 q). A flat cluster's
-// radiance and coverage are then exact from either side; curved and closed ones are
-// approximated smoothly (docs/pcb.md, "Directional surfel clusters").
+// uses anyway: for any cluster the truncated two-sided area is area (3 + 15 q) / 16 with
+// q = w^T M w (M the mean n n^T: the band-2 sum of a surfel is 5 P2(n.w), linear in
+// n n^T), and the projection of the disks is area sqrt(q) (exact for flat clusters), so
+// the even parts are scaled by 16 sqrt(q) / (3 + 15 q). A flat cluster's radiance and
+// coverage are then exact from either side; curved and closed ones are approximated
+// smoothly (docs/pointcloud.md, "Cluster aggregates"; measured in docs/results.md,
+// "Directional surfel clusters").
 //
 // The cluster's radiance along a ray is linear in `power`, with weights that depend on the
-// geometry only (weights()): the gather operator records them like any other weight.
+// geometry only (radianceWeights()): the gather operator records them like any other
+// weight.
 #include <algorithm>
 #include <cmath>
 
