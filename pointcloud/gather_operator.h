@@ -148,9 +148,9 @@ class GatherOperator {
   // A block's weights are stored grey when all of them are (media with a colourless
   // extinction, and no media at all, give grey weights), as half floats relative to the
   // block's largest: a 2-byte weight instead of a 4-byte float (12 bytes for RGB), on the
-  // operator, the largest memory item (issue 13: bytes per element). A half keeps 11 bits, so a weight is rounded by at
-  // most 2^-11 of itself, or 2^-25 of the block's largest where it is below 2^-14 of it
-  // (subnormal); the block's rows (neighbouring elements of one kind) share a scale.
+  // operator, the largest memory item (issue 13: bytes per element). A half keeps 11 bits, so a
+  // weight is rounded by at most 2^-11 of itself, or 2^-25 of the block's largest where it is below
+  // 2^-14 of it (subnormal); the block's rows (neighbouring elements of one kind) share a scale.
   struct GreyWeights {
     const Imath::half* weight;
     float scale;
