@@ -86,13 +86,20 @@ void vdbSeeds(const fs::path& dir) {
   grid->tree().addTile(1, openvdb::Coord(16, 0, 0), 2.0f, true);
   auto other = openvdb::Vec3SGrid::create();
   other->setName("velocity");
-  openvdb::GridPtrVec grids{grid, other};
   fs::create_directories(dir);
-  openvdb::io::File file((dir / "density_small.vdb").string());
+  const auto write = [&](const char* name, const openvdb::GridPtrVec& grids, uint32_t codec) {
+    openvdb::io::File file((dir / name).string());
+    file.setCompression(codec);
+    file.write(grids);
+    file.close();
+  };
   // Only the active-mask compression: no zlib or blosc stream, so mutations reach values.
-  file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);
-  file.write(grids);
-  file.close();
+  write("density_small.vdb", {grid, other}, openvdb::io::COMPRESS_ACTIVE_MASK);
+  // The density alone (under libFuzzer's 16 kB) with OpenVDB's two codecs, so mutations
+  // reach the compressed blocks of the nodes and the leaves (docs/hardening.md).
+  write("density_zip.vdb", {grid}, openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
+  write("density_blosc.vdb", {grid},
+        openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Statistics.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -83,8 +84,8 @@ SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw InputError(file, field, std::string("cannot open: ") + std::strerror(errno));
   }
-  // OpenVDB allocates whatever the file's lengths say: check them against its size first.
-  precheckVdbFile(file, field);
+  // OpenVDB trusts the file's lengths, counts and compressed blocks: walk them first.
+  const VdbTreeShape shape = precheckVdbFile(file, field, gridName);
   initOpenVdb();
   openvdb::GridBase::Ptr base;
   try {
@@ -109,9 +110,11 @@ SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                          "grid '" + gridName + "' holds " + g->valueType() +
                              " values; a density needs a float grid");
       if (beforeReading)
-        beforeReading(estimatedTreeBytes(int64Meta(*g, openvdb::GridBase::META_FILE_MEM_BYTES),
-                                         int64Meta(*g, openvdb::GridBase::META_FILE_VOXEL_COUNT),
-                                         std::filesystem::file_size(file)));
+        beforeReading(
+            std::max(shape.bytes(),
+                     estimatedTreeBytes(int64Meta(*g, openvdb::GridBase::META_FILE_MEM_BYTES),
+                                        int64Meta(*g, openvdb::GridBase::META_FILE_VOXEL_COUNT),
+                                        std::filesystem::file_size(file))));
     }
     base = vdb.readGrid(gridName);
     vdb.close();

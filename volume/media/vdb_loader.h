@@ -26,10 +26,11 @@ struct GridLoadReport {
 // file cannot be read (loadVdbGrid reports that).
 std::vector<std::pair<std::string, std::string>> listVdbGrids(const std::string& file);
 
-// `beforeReading(bytes)` is called with the memory the grid's tree will take, from the
+// `beforeReading(bytes)` is called with the memory the grid's tree will take before the
+// tree is read: the larger of the nodes the precheck counted (vdb_precheck.h) and the
 // file's own statistics (OpenVDB writes `file_mem_bytes` with every grid; else the active
-// voxel count x 4 bytes, else the file size), before the tree is read: a budget check that
-// throws stops the load before OpenVDB allocates anything.
+// voxel count x 4 bytes, else the file size). A budget check that throws stops the load
+// before OpenVDB allocates anything, whatever the statistics say.
 SparseGrid loadVdbGrid(const std::string& file, const std::string& gridName,
                        const Transform& sceneTransform, const std::string& field,
                        GridLoadReport& report,
