@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <optional>
 
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
@@ -10,38 +9,6 @@
 
 namespace lvox {
 namespace {
-
-// An accessor that does not register with its tree (IsSafe = false): the trees are
-// immutable once built, and each thread has its own.
-using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
-
-struct AccessorSlot {
-  uint64_t id = 0;
-  std::optional<Accessor> accessor;
-};
-
-// The calling thread's accessor of `trees`' values. A few slots per thread, keyed by the
-// grid's unique id (never by address: a freed grid's id is never seen again), so density
-// and emission grids, or several media, do not evict each other on every lookup.
-const Accessor& threadAccessor(const SparseGrid::Trees& trees) {
-  // The last slot used, in plain thread-locals: no initialisation guard on the fast path.
-  thread_local uint64_t lastId = 0;
-  thread_local const Accessor* last = nullptr;
-  if (lastId == trees.id) return *last;
-  thread_local std::array<AccessorSlot, 4> slots;
-  thread_local unsigned next = 0;
-  AccessorSlot* slot = nullptr;
-  for (AccessorSlot& s : slots)
-    if (s.id == trees.id) slot = &s;
-  if (!slot) {
-    slot = &slots[next++ % slots.size()];
-    slot->accessor.emplace(trees.values->tree());
-    slot->id = trees.id;
-  }
-  lastId = trees.id;
-  last = &*slot->accessor;
-  return *last;
-}
 
 using LeafT = openvdb::FloatTree::LeafNodeType;
 constexpr int kLeafMask = static_cast<int>(LeafT::DIM) - 1;
@@ -61,7 +28,7 @@ struct LeafView {
 
 // The leaf region each thread used last, in a plain thread-local (constant-initialised: no
 // guard on access), so lookups along a ray, which mostly stay in one leaf, cost a compare
-// before reading the buffer; the accessor is asked only when the region changes.
+// before reading the buffer; the lower-node index is asked only when the region changes.
 struct LeafEntry {
   uint64_t id;
   int x, y, z;
@@ -70,17 +37,27 @@ struct LeafEntry {
 };
 thread_local LeafEntry lastLeaf{};
 
-[[gnu::noinline]] LeafView refillLeaf(const SparseGrid::Trees& trees, int i, int j, int k) {
-  const Accessor& acc = threadAccessor(trees);
+// The leaf region holding voxel (i, j, k), found through the lower-node index.
+LeafView findLeaf(const SparseGrid::Trees& trees, int i, int j, int k) {
+  using LowerT = LowerNodeIndex::LowerT;
   const openvdb::Coord c(i, j, k);
-  const LeafT* leaf = acc.probeConstLeaf(c);
-  lastLeaf = {trees.id,
-              i & ~kLeafMask,
-              j & ~kLeafMask,
-              k & ~kLeafMask,
-              leaf ? leaf->buffer().data() : nullptr,
-              leaf ? 0.0f : acc.getValue(c)};
-  return {lastLeaf.data, lastLeaf.tile};
+  if (const LowerT* lower = trees.lowerNodes->find(i, j, k)) {
+    const openvdb::Index n = LowerT::coordToOffset(c);
+    const auto& entry = lower->getTable()[n];
+    if (lower->isChildMaskOn(n)) return {entry.getChild()->buffer().data(), 0.0f};
+    return {nullptr, entry.getValue()};
+  }
+  if (!trees.lowerNodes->valuesOutside()) return {nullptr, 0.0f};
+  // An upper node's or the root's tile, or a leaf beyond the index's reach.
+  const openvdb::FloatTree& tree = trees.values->tree();
+  if (const LeafT* leaf = tree.probeConstLeaf(c)) return {leaf->buffer().data(), 0.0f};
+  return {nullptr, tree.getValue(c)};
+}
+
+[[gnu::noinline]] LeafView refillLeaf(const SparseGrid::Trees& trees, int i, int j, int k) {
+  const LeafView leaf = findLeaf(trees, i, j, k);
+  lastLeaf = {trees.id, i & ~kLeafMask, j & ~kLeafMask, k & ~kLeafMask, leaf.data, leaf.tile};
+  return leaf;
 }
 
 // The leaf region holding voxel (i, j, k).
@@ -94,8 +71,8 @@ inline LeafView leafAt(const SparseGrid::Trees& trees, int i, int j, int k) {
 // The 2 x 2 x 2 leaf regions from the one at (x, y, z) (leaf-aligned) on, which each thread
 // used last for a stencil that crosses leaves. A tricubic stencil crosses in 3 of 4 lookups
 // (its 4 voxels fit a leaf's 8 at 5 of 8 offsets per axis); along a ray consecutive
-// stencils mostly share the block, so a crossing costs a compare, not up to 8 descents of
-// the accessor, each evicting the last one's leaf (1.5x the dense array's time before).
+// stencils mostly share the block, so a crossing costs a compare, not up to 8 leaf
+// lookups, each evicting the last one's leaf (1.5x the dense array's time before).
 struct LeafBlock {
   uint64_t id;
   int x, y, z;
@@ -104,17 +81,14 @@ struct LeafBlock {
 thread_local LeafBlock lastBlock{};
 
 [[gnu::noinline]] void refillBlock(const SparseGrid::Trees& trees, int x, int y, int z) {
-  const Accessor& acc = threadAccessor(trees);
   lastBlock.id = trees.id;
   lastBlock.x = x;
   lastBlock.y = y;
   lastBlock.z = z;
   constexpr int kDim = kLeafMask + 1;
-  for (int c = 0; c < 8; ++c) {
-    const openvdb::Coord xyz(x + (c & 1) * kDim, y + (c >> 1 & 1) * kDim, z + (c >> 2) * kDim);
-    const LeafT* leaf = acc.probeConstLeaf(xyz);
-    lastBlock.corner[c] = {leaf ? leaf->buffer().data() : nullptr, leaf ? 0.0f : acc.getValue(xyz)};
-  }
+  for (int c = 0; c < 8; ++c)
+    lastBlock.corner[c] =
+        findLeaf(trees, x + (c & 1) * kDim, y + (c >> 1 & 1) * kDim, z + (c >> 2) * kDim);
 }
 
 // The voxels [x0, x0 + N) x [y0, y0 + N) x [z0, z0 + N) into v[z][y][x], N <= 8: from one
@@ -465,7 +439,8 @@ MajorantLevel SparseGrid::cheapestMajorantLevel(float densityScale, Interpolatio
 
 size_t SparseGrid::memoryBytes() const {
   if (!trees_) return 0;
-  return trees_->values->memUsage() + trees_->blockMax->memUsage() + trees_->nodeMax->memUsage();
+  return trees_->values->memUsage() + trees_->blockMax->memUsage() + trees_->nodeMax->memUsage() +
+         trees_->lowerNodes->memoryBytes();
 }
 
 }  // namespace lvox

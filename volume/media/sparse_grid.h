@@ -2,12 +2,13 @@
 // A scalar OpenVDB grid read in place, never copied into a dense array: the memory is the
 // tree's own (its active leaves and tiles), whatever the grid's bounding box.
 //
-// Lookups go through OpenVDB value accessors, one per thread and grid (cached in
-// thread-local slots), so consecutive lookups along a ray mostly reuse the leaf they hit
-// last. Beside the values the grid keeps two majorant trees built from the value tree's own
-// nodes: the largest value interpolation can return in each 8^3 block of voxels (a leaf
-// of the tree) and in each 64^3 block (a leaf of the block tree). Ray walks over them are
-// hierarchical DDAs that jump over empty nodes of the majorant tree, at any level.
+// Lookups find their leaf through an index of the tree's lower internal nodes (a hash of
+// their positions, sparse_grid_trees.h), and each thread keeps the leaf it hit last, so
+// consecutive lookups along a ray mostly cost a compare. Beside the values the grid keeps two
+// majorant trees built from the value tree's own nodes: the largest value interpolation can return
+// in each 8^3 block of voxels (a leaf of the tree) and in each 64^3 block (a leaf of the block
+// tree). Ray walks over them are hierarchical DDAs that jump over empty nodes of the majorant tree,
+// at any level.
 //
 // OpenVDB stays out of this header (it is a private dependency of lvox_volume): the trees
 // live behind `Trees`, defined in sparse_grid_trees.h.

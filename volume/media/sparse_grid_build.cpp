@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <type_traits>
 #include <vector>
@@ -147,6 +148,35 @@ MajorantTree::Ptr dilateMax(const MajorantTree& own) {
 
 }  // namespace
 
+LowerNodeIndex::LowerNodeIndex(const openvdb::FloatTree& tree) {
+  std::vector<const LowerT*> lowers;
+  const auto& root = tree.root();
+  for (auto tile = root.cbeginValueOn(); tile; ++tile) valuesOutside_ |= *tile > 0.0f;
+  for (auto upper = root.cbeginChildOn(); upper; ++upper) {
+    for (auto tile = upper->cbeginValueOn(); tile; ++tile) valuesOutside_ |= *tile > 0.0f;
+    for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
+      const openvdb::Coord& o = lower->origin();
+      if (inReach(o.x()) && inReach(o.y()) && inReach(o.z()))
+        lowers.push_back(&*lower);
+      else
+        valuesOutside_ = true;
+    }
+  }
+  // At most half full: a miss (empty space) ends after a probe or two.
+  const size_t slots = std::bit_ceil(std::max<size_t>(2 * lowers.size(), 16));
+  keys_.assign(slots, kEmpty);
+  nodes_.assign(slots, nullptr);
+  mask_ = slots - 1;
+  for (const LowerT* lower : lowers) {
+    const openvdb::Coord& o = lower->origin();
+    const uint64_t key = keyOf(o.x(), o.y(), o.z());
+    uint64_t h = hash(key);
+    while (keys_[h] != kEmpty) h = (h + 1) & mask_;
+    keys_[h] = key;
+    nodes_[h] = lower;
+  }
+}
+
 std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Ptr grid,
                                                           const std::string& file,
                                                           const std::string& field,
@@ -174,6 +204,7 @@ std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Pt
   trees->blockMax = blockMax;
   trees->nodeMax = nodeMax;
   trees->id = nextId.fetch_add(1);
+  trees->lowerNodes.emplace(tree);
   static_assert(kLeafDim == 8, "majorant blocks are the value tree's 8^3 leaves");
   return trees;
 }

@@ -171,6 +171,57 @@ TEST(SparseGrid, TheWalkJumpsOverEmptyNodes) {
   EXPECT_EQ(intervals[1].second, spans[1].t1);
 }
 
+// Every kind of place a value can live, looked up through the lower-node index and the
+// per-thread leaf caches, against OpenVDB's own lookup of the same tree: voxels in several
+// lower nodes on both sides of the origin, inactive and negative voxels (0), tiles of a
+// lower node (8^3), of an upper node (128^3) and of the root (4096^3), and voxels beyond
+// the index's reach of 2^27, which it leaves to the tree.
+TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
+  using openvdb::Coord;
+  openvdb::initialize();
+  auto reference = openvdb::FloatGrid::create(0.0f);
+  const auto fill = [](openvdb::FloatGrid& grid) {
+    auto acc = grid.getAccessor();
+    Rng rng(11, 12);
+    for (int n = 0; n < 400; ++n) {
+      const Coord c(static_cast<int>(rng.uniform() * 600.0f) - 300,
+                    static_cast<int>(rng.uniform() * 300.0f) - 150,
+                    static_cast<int>(rng.uniform() * 300.0f) - 150);
+      acc.setValue(c, 0.1f + rng.uniform());
+    }
+    acc.setValue(Coord(5, 5, 5), -2.0f);    // clamped to 0
+    acc.setValueOff(Coord(6, 5, 5), 3.0f);  // inactive: 0
+    grid.tree().addTile(1, Coord(64, 64, 64), 0.25f, true);
+    grid.tree().addTile(2, Coord(1024, 0, 0), 0.5f, true);
+    grid.tree().addTile(3, Coord(-8192, 0, 0), 0.75f, true);
+    const int far = (1 << 27) + 100;
+    acc.setValue(Coord(far, 3, -far), 1.5f);
+  };
+  fill(*reference);
+  const SparseGrid g = gridFrom("kinds.vdb", fill);
+  const auto expected = [&](const Coord& c) {
+    float v = 0.0f;
+    return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
+  };
+  const int far = (1 << 27) + 100;
+  std::vector<Coord> probes = {Coord(5, 5, 5),          Coord(6, 5, 5),         Coord(66, 70, 71),
+                               Coord(1100, 60, 30),     Coord(-5000, 17, 2000), Coord(far, 3, -far),
+                               Coord(far + 1, 3, -far), Coord(1 << 28, 0, 0)};
+  Rng rng(5, 6);
+  for (auto v = reference->tree().cbeginLeaf(); v; ++v)  // every voxel in a leaf
+    for (auto on = v->cbeginValueOn(); on; ++on) probes.push_back(on.getCoord());
+  for (int n = 0; n < 20000; ++n)  // random places, most in empty space or tiles
+    probes.emplace_back(static_cast<int>(rng.uniform() * 20000.0f) - 10000,
+                        static_cast<int>(rng.uniform() * 600.0f) - 300,
+                        static_cast<int>(rng.uniform() * 600.0f) - 300);
+  int nonZero = 0;
+  for (const Coord& c : probes) {
+    ASSERT_EQ(g.voxel(c.x(), c.y(), c.z()), expected(c)) << c;
+    nonZero += expected(c) > 0.0f;
+  }
+  EXPECT_GT(nonZero, 1000);  // the tiles and voxels were reached, not only empty space
+}
+
 TEST(SparseGrid, AHugeTileCostsItsTileNotItsVoxels) {
   // One active tile of 4096^3 voxels (a 2 KB file): 6.9e10 voxels that a dense copy could
   // never hold. The values and the majorant trees stay tiles.
