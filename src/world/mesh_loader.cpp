@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "src/core/error.h"
+#include "src/world/obj_validate.h"
 #include "src/world/ply_validate.h"
 #include "src/world/surface_textures.h"
 
@@ -85,6 +86,7 @@ bool addTriangle(TriangleMesh& mesh, const Vec3& a, const Vec3& b, const Vec3& c
 MeshLoadStats loadObj(const std::string& path, const std::string& field, const Transform& xf,
                       std::optional<uint32_t> materialOverride, World& world) {
   requireReadable(path, field);
+  validateObj(path, field);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
