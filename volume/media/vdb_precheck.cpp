@@ -204,8 +204,11 @@ class Walker {
     e.parent = string("instance parent name");
     const int64_t gridPos = read<int64_t>(), blockPos = read<int64_t>();
     e.endPos = read<int64_t>();
+    // An instance has no blocks of its own: OpenVDB writes its block offset as 0.
+    const bool blocksInOrder = e.parent.empty() ? gridPos <= blockPos && blockPos <= e.endPos
+                                                : blockPos == 0 && gridPos <= e.endPos;
     if (!(static_cast<uint64_t>(pos_) <= static_cast<uint64_t>(std::max<int64_t>(gridPos, 0)) &&
-          gridPos <= blockPos && blockPos <= e.endPos))
+          blocksInOrder))
       fail("grid offsets out of order");
     seek(e.endPos, "grid end");
     seek(gridPos, "grid");

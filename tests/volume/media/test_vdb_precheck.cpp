@@ -129,6 +129,27 @@ TEST(VdbPrecheck, TreeShapesAreOpenVdbs) {
       }
 }
 
+// A grid that shares its tree with another is written as an instance of it: the walk
+// follows the instance to its parent's tree, which is what OpenVDB reads for it.
+TEST(VdbPrecheck, AnInstanceIsWalkedThroughItsParentsTree) {
+  openvdb::initialize();
+  auto grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName("smoke");
+  grid->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+  grid->tree().setValue(openvdb::Coord(100, 2, 3), 2.0f);
+  openvdb::GridBase::Ptr instance = grid->copyGrid();  // shares the tree
+  instance->setName("density");
+  const fs::path path = test::tempDir() / "instance.vdb";
+  openvdb::io::File(path.string()).write({grid, instance});
+  const VdbTreeShape shape = precheckVdbFile(path.string(), "media[0].file", "density");
+  EXPECT_EQ(shape.leaves, 2u);
+  EXPECT_EQ(shape.lowerNodes, 1u);
+  GridLoadReport report;
+  EXPECT_EQ(
+      loadVdbGrid(path.string(), "density", Transform(), "media[0].file", report).activeVoxels(),
+      2u);
+}
+
 TEST(VdbPrecheck, RealTreesAreCountedAsOpenVdbReadsThem) {
   const fs::path shared = fs::path(LVOX_SHARED_DIR) / "assets/vdb";
   if (!fs::exists(shared)) GTEST_SKIP() << "shared assets absent";
