@@ -170,16 +170,41 @@ class Walker {
     }
   }
 
-  // io::DelayedLoadMetadata::readValue: a mask (a compressed block, or one byte per
-  // entry) and compressed sizes (a block, or one int64 per entry, or none).
+  // io::DelayedLoadMetadata::readValue: a leaf count, a mask (a blosc block, or one byte
+  // per leaf), compressed sizes (a blosc block, or one int64 per leaf, or none), then
+  // whatever the declared size leaves (skipped, for newer versions). OpenVDB sizes both
+  // arrays by the count before reading them.
   void delayedLoad(uint32_t bytes) {
     if (bytes == 0) return;
-    const uint32_t count = read<uint32_t>();
+    const uint64_t start = pos_;
+    const uint32_t leaves = read<uint32_t>();
+    // A leaf takes at least its two 64-byte masks in a file.
+    if (leaves > size_ / 128)
+      fail("delayed-load metadata for " + std::to_string(leaves) + " leaves");
     const uint32_t maskBytes = read<uint32_t>();
-    skip(maskBytes > 0 ? maskBytes : count);
+    if (maskBytes > 0)
+      bloscArray(maskBytes, leaves);
+    else
+      skip(leaves);
     const uint32_t sizeBytes = read<uint32_t>();
-    if (sizeBytes == UINT32_MAX) return;
-    skip(sizeBytes > 0 ? sizeBytes : static_cast<uint64_t>(count) * 8);
+    if (sizeBytes > 0 && sizeBytes != UINT32_MAX)
+      bloscArray(sizeBytes, uint64_t{leaves} * 8);
+    else if (sizeBytes == 0)
+      skip(uint64_t{leaves} * 8);
+    if (pos_ - start < bytes) skip(bytes - (pos_ - start));
+  }
+  // A blosc block of `stored` bytes that must hold `bytes`, which OpenVDB pads up to 128
+  // bytes when they are few (points/StreamCompression.h); blosc trusts its header, and
+  // OpenVDB reserves what the header says.
+  void bloscArray(uint32_t stored, uint64_t bytes) {
+    if (stored < BLOSC_MIN_HEADER_LENGTH) fail("a blosc block shorter than its header");
+    char header[BLOSC_MIN_HEADER_LENGTH];
+    readBytes(header, sizeof header);
+    size_t nbytes = 0, cbytes = 0, blocksize = 0;
+    blosc_cbuffer_sizes(header, &nbytes, &cbytes, &blocksize);
+    if (nbytes < bytes || nbytes > bytes + 128 || cbytes > stored)
+      fail("a blosc block's header does not match its values");
+    skip(stored - BLOSC_MIN_HEADER_LENGTH);
   }
 
   // Transform::read: the map's type name, then its data (a frustum holds a second map).
