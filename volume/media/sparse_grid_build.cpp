@@ -197,6 +197,17 @@ std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Pt
   trees->activeVoxels = report.activeVoxels;
   trees->maxValue = clean(census.max);
   tree.evalActiveVoxelBoundingBox(trees->activeBox);
+  // Lookups index voxels below 1e9 (SparseGrid::sampleIndex), in floats (exact to the voxel
+  // below 2^24), and bounds add the stencils' reach in int: a grid reaching -2^31 (found by
+  // fuzzing) overflowed them. Real grids lie far inside +-2^29.
+  constexpr int kReach = 1 << 29;
+  const openvdb::CoordBBox& box = trees->activeBox;
+  for (int a = 0; a < 3; ++a)
+    if (box.min()[a] < -kReach || box.max()[a] > kReach)
+      throw InputError(file, field,
+                       "active voxels at index " +
+                           std::to_string(box.min()[a] < -kReach ? box.min()[a] : box.max()[a]) +
+                           " (axis " + std::to_string(a) + "), beyond the +-2^29 lvox indexes");
   MajorantTree::Ptr blockMax = dilateMax(*coarsen(tree));
   MajorantTree::Ptr nodeMax = coarsen(*blockMax);
   blockMax->evalActiveVoxelBoundingBox(trees->blockCells);

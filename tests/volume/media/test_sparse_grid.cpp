@@ -222,6 +222,29 @@ TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
   EXPECT_GT(nonZero, 1000);  // the tiles and voxels were reached, not only empty space
 }
 
+// A voxel at -2^31 made the bounds' stencil padding overflow int (found by fuzzing): grids
+// reaching beyond +-2^29 are refused, naming the index.
+TEST(SparseGrid, VoxelsBeyondTheIndexedRangeAreRefused) {
+  for (const int at : {(1 << 29) + 8, -2147483647 - 1}) {
+    try {
+      gridFrom("far.vdb", [at](openvdb::FloatGrid& grid) {
+        grid.tree().setValue(openvdb::Coord(0, at, 0), 1.0f);
+      });
+      ADD_FAILURE() << at << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("at index " + std::to_string(at) + " (axis 1)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(gridFrom("near.vdb",
+                     [](openvdb::FloatGrid& grid) {
+                       grid.tree().setValue(openvdb::Coord(0, (1 << 29) - 8, 0), 1.0f);
+                     })
+                .activeVoxels(),
+            1u);
+}
+
 TEST(SparseGrid, AHugeTileCostsItsTileNotItsVoxels) {
   // One active tile of 4096^3 voxels (a 2 KB file): 6.9e10 voxels that a dense copy could
   // never hold. The values and the majorant trees stay tiles.
