@@ -114,18 +114,18 @@ class Walker {
   template <class T>
   T read() {
     T v{};
-    if (remaining() < sizeof(T)) fail("it ends inside a grid (truncated?)");
+    if (remaining() < sizeof(T)) fail("it ends before what it declares (truncated?)");
     in_.read(reinterpret_cast<char*>(&v), sizeof(T));
     pos_ += sizeof(T);
     return v;
   }
   void readBytes(void* to, uint64_t n) {
-    if (remaining() < n) fail("it ends inside a grid (truncated?)");
+    if (remaining() < n) fail("it ends before what it declares (truncated?)");
     in_.read(static_cast<char*>(to), static_cast<std::streamsize>(n));
     pos_ += n;
   }
   void skip(uint64_t n) {
-    if (remaining() < n) fail("it ends inside a grid (truncated?)");
+    if (remaining() < n) fail("it ends before what it declares (truncated?)");
     pos_ += n;
     // Leaves' blocks are small and many: read on through the buffer rather than seek.
     if (n < (1u << 20))
