@@ -74,14 +74,16 @@ void validateObjBytes(std::string_view bytes, const std::string& path, const std
     // Lines end at \n, \r or \r\n, as tinyobjloader's safeGetline splits them.
     size_t end = at;
     while (end < bytes.size() && bytes[end] != '\n' && bytes[end] != '\r') ++end;
-    const std::string line(bytes.substr(at, end - at));
+    const std::string_view view = bytes.substr(at, end - at);
     at = end + (end < bytes.size() && bytes[end] == '\r' && end + 1 < bytes.size() &&
                         bytes[end + 1] == '\n'
                     ? 2
                     : 1);
     ++lineNumber;
-    const char* token = line.c_str();  // c_str: a NUL ends the line, as for tinyobjloader
-    token += std::strspn(token, " \t");
+    const size_t first = view.find_first_not_of(" \t");
+    if (first == std::string_view::npos || view.substr(first, 2) != "vw") continue;
+    const std::string line(view);  // c_str: a NUL ends the line, as for tinyobjloader
+    const char* token = line.c_str() + first;
     if (!(token[0] == 'v' && token[1] == 'w' && (token[2] == ' ' || token[2] == '\t'))) continue;
     std::string joint;
     if (badJoint(token + 3, joint))
