@@ -193,17 +193,24 @@ class Walker {
       skip(uint64_t{leaves} * 8);
     if (pos_ - start < bytes) skip(bytes - (pos_ - start));
   }
-  // A blosc block of `stored` bytes that must hold `bytes`, which OpenVDB pads up to 128
-  // bytes when they are few (points/StreamCompression.h); blosc trusts its header, and
-  // OpenVDB reserves what the header says.
-  void bloscArray(uint32_t stored, uint64_t bytes) {
+  // Reads the header of a blosc block of `stored` bytes into `header` and checks it: blosc
+  // trusts its header's sizes, so the compressed size must fit the block and the
+  // uncompressed size must be `bytes`, or up to `padding` more.
+  void bloscHeader(char (&header)[BLOSC_MIN_HEADER_LENGTH], uint64_t stored, uint64_t bytes,
+                   uint64_t padding) {
     if (stored < BLOSC_MIN_HEADER_LENGTH) fail("a blosc block shorter than its header");
-    char header[BLOSC_MIN_HEADER_LENGTH];
-    readBytes(header, sizeof header);
+    readBytes(header, BLOSC_MIN_HEADER_LENGTH);
     size_t nbytes = 0, cbytes = 0, blocksize = 0;
     blosc_cbuffer_sizes(header, &nbytes, &cbytes, &blocksize);
-    if (nbytes < bytes || nbytes > bytes + 128 || cbytes > stored)
+    if (nbytes < bytes || nbytes > bytes + padding || cbytes > stored ||
+        cbytes < BLOSC_MIN_HEADER_LENGTH)
       fail("a blosc block's header does not match its values");
+  }
+  // A blosc block of `stored` bytes that must hold `bytes`, which OpenVDB pads up to 128
+  // bytes when they are few (points/StreamCompression.h), and reserves what the header says.
+  void bloscArray(uint32_t stored, uint64_t bytes) {
+    char header[BLOSC_MIN_HEADER_LENGTH];
+    bloscHeader(header, stored, bytes, 128);
     skip(stored - BLOSC_MIN_HEADER_LENGTH);
   }
 
@@ -379,20 +386,17 @@ class Walker {
       fail("a compressed block of " + std::to_string(size) + " bytes runs past the grid");
     const bool blosc = compression_ & kBlosc;
     if (!decompress && !blosc) return skip(static_cast<uint64_t>(size));
-    std::vector<char> packed(decompress ? static_cast<size_t>(size) : BLOSC_MIN_HEADER_LENGTH);
+    std::vector<char> packed;
     if (blosc) {
-      // blosc trusts its header's sizes: they must fit the block and the values.
-      if (size < BLOSC_MIN_HEADER_LENGTH) fail("a blosc block shorter than its header");
-      readBytes(packed.data(), BLOSC_MIN_HEADER_LENGTH);
-      size_t nbytes = 0, cbytes = 0, blocksize = 0;
-      blosc_cbuffer_sizes(packed.data(), &nbytes, &cbytes, &blocksize);
-      if (nbytes != bytes || cbytes > static_cast<uint64_t>(size) ||
-          cbytes < BLOSC_MIN_HEADER_LENGTH)
-        fail("a blosc block's header does not match its values");
+      char header[BLOSC_MIN_HEADER_LENGTH];
+      bloscHeader(header, static_cast<uint64_t>(size), bytes, 0);
       if (!decompress) return skip(static_cast<uint64_t>(size) - BLOSC_MIN_HEADER_LENGTH);
+      packed.assign(header, header + BLOSC_MIN_HEADER_LENGTH);
+      packed.resize(static_cast<size_t>(size));
       readBytes(packed.data() + BLOSC_MIN_HEADER_LENGTH,
                 static_cast<uint64_t>(size) - BLOSC_MIN_HEADER_LENGTH);
     } else {
+      packed.resize(static_cast<size_t>(size));
       readBytes(packed.data(), static_cast<uint64_t>(size));
     }
     std::vector<char> values(std::max<uint64_t>(bytes, 1));
