@@ -186,6 +186,19 @@ TEST(Media, NegativeVoxelsAreClampedAndNaNIsAnError) {
   EXPECT_NE(buildError(vdbMedium(dir, "nan.vdb")).find("NaN"), std::string::npos);
 }
 
+// A grid with no active voxel (an empty tree) passes the file walk and loads as an empty
+// medium, with a warning naming it: nothing to render, nothing refused.
+TEST(Media, AnEmptyGridIsAnEmptyMediumWithAWarning) {
+  const auto dir = test::tempDir();
+  writeGrid(dir / "empty.vdb", 4, 1.0, [](int, int, int) { return 0.0f; });
+  std::vector<std::string> warnings;
+  const MediaSet media = build(vdbMedium(dir, "empty.vdb"), warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("has no active voxels: empty medium"), std::string::npos)
+      << warnings[0];
+  EXPECT_EQ(media.at(Vec3(1.0f, 1.0f, 1.0f)).sigmaT().x, 0.0f);
+}
+
 TEST(Media, OverlappingBoxesAdd) {
   std::vector<std::string> warnings;
   const MediaSet media = build(parseMediaArray("/tmp", R"([
