@@ -31,11 +31,14 @@ std::string_view majorantName(MajorantKind m) { return nameOf(m, kMajorantNames)
 VolumeSettings parseVolumeSettings(JsonObject v) {
   VolumeSettings s;
   s.solver = v.choice("solver", std::string(kAuto), parseSolver);
-  s.step = v.number("step", kStepRange, s.step);
+  if (v.has("step")) s.step = v.number("step", kStepRange, std::nullopt);
+  s.stepScale = v.number("step_scale", kStepScaleRange, s.stepScale);
+  if (s.step && v.has("step_scale"))
+    v.fail("step_scale", "scales the relative step; the scene gives an absolute \"step\"");
   s.tolerance = v.number("tolerance", kToleranceRange, s.tolerance);
-  s.minStep = v.number("min_step", 1e-9f, 1e9f, s.minStep);
-  s.maxStep = v.number("max_step", 1e-9f, 1e9f, s.maxStep);
-  if (s.minStep > s.maxStep) v.fail("min_step", "exceeds max_step");
+  if (v.has("min_step")) s.minStep = v.number("min_step", 1e-9f, 1e9f, std::nullopt);
+  if (v.has("max_step")) s.maxStep = v.number("max_step", 1e-9f, 1e9f, std::nullopt);
+  if (s.minStep && s.maxStep && *s.minStep > *s.maxStep) v.fail("min_step", "exceeds max_step");
   s.interpolation = v.choice("interpolation", std::string(interpolationName(s.interpolation)),
                              parseInterpolation);
   s.sampling = v.choice("sampling", std::string(rte::samplingName(s.sampling)),
@@ -54,10 +57,18 @@ SettingList describe(const VolumeSettings& s) {
   SettingList l;
   const std::string v = "volume_integrator.";
   l.add(v + "solver", solverName(s.solver));
-  l.add(v + "step", s.step);
+  // An absent length is relative to the media (VolumeSettings).
+  auto length = [&](const char* key, const std::optional<float>& value) {
+    if (value)
+      l.add(v + key, *value);
+    else
+      l.add(v + key, "relative");
+  };
+  length("step", s.step);
+  l.add(v + "step_scale", s.stepScale);
   l.add(v + "tolerance", s.tolerance);
-  l.add(v + "min_step", s.minStep);
-  l.add(v + "max_step", s.maxStep);
+  length("min_step", s.minStep);
+  length("max_step", s.maxStep);
   l.add(v + "interpolation", interpolationName(s.interpolation));
   l.add(v + "sampling", rte::samplingName(s.sampling));
   l.add(v + "max_evaluations", s.maxEvaluations);

@@ -18,14 +18,26 @@ namespace lvox {
 enum class MajorantKind { kGrid, kGlobal };
 
 inline constexpr NumberRange kStepRange{1e-6f, 1e9f};  // scene units
+inline constexpr NumberRange kStepScaleRange{1e-3f, 1e3f};
 inline constexpr NumberRange kToleranceRange{1e-12f, 1.0f};
 
 struct VolumeSettings {
   std::optional<rte::Method> solver;  // empty: "auto", chosen per ray segment
-  float step = 0.1f;                  // scene units
+  // Steps in scene units where the scene gives them. Where it does not, each ray segment's
+  // steps are relative to the media on it (src/render/medium_scale.h): the natural step
+  // times `stepScale`, min_step a thousandth of it and max_step ten times it.
+  std::optional<float> step;
+  float stepScale = 1.0f;
+  // Multiplies the step, absolute or relative.
+  void scaleStep(float k) {
+    if (step)
+      *step *= k;
+    else
+      stepScale *= k;
+  }
   float tolerance = 1e-3f;
-  float minStep = 1e-4f;
-  float maxStep = 1.0f;
+  std::optional<float> minStep;
+  std::optional<float> maxStep;
   Interpolation interpolation = Interpolation::Trilinear;
   rte::Sampling sampling = rte::Sampling::kNone;
   uint32_t maxEvaluations = 100000;  // per ray segment, then degrade gracefully

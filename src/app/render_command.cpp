@@ -344,7 +344,8 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
                   "Volume solver: auto or one of " + rte::methodNames() + " (docs/solvers.md)" +
                       scene(flags::kSolver, "auto"));
   cmd->add_option(flags::kStep.flag, flags->step,
-                  "Volume step in scene units" + scene(flags::kStep, shortNumber(v.step)));
+                  "Volume step in scene units (default: relative to the media)" +
+                      scene(flags::kStep, v.step ? shortNumber(*v.step) : "relative"));
   cmd->add_option(
       flags::kTolerance.flag, flags->tolerance,
       "Tolerance of adaptive volume solvers" + scene(flags::kTolerance, shortNumber(v.tolerance)));

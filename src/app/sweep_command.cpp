@@ -77,9 +77,12 @@ SweepMethod parseSweepMethod(const std::string& name) {
 }
 
 // The accuracy parameter a sweep varies.
-enum class Knob { kStep, kTolerance, kSpp };
-constexpr Named<Knob> kKnobNames[] = {
-    {Knob::kStep, "step"}, {Knob::kTolerance, "tol"}, {Knob::kSpp, "spp"}};
+// A scene without a step sweeps the scale of its relative step (volume_integrator.step_scale).
+enum class Knob { kStep, kStepScale, kTolerance, kSpp };
+constexpr Named<Knob> kKnobNames[] = {{Knob::kStep, "step"},
+                                      {Knob::kStepScale, "step_scale"},
+                                      {Knob::kTolerance, "tol"},
+                                      {Knob::kSpp, "spp"}};
 
 // One render of the sweep: a method and the value of its accuracy parameter.
 struct SweepPoint {
@@ -118,8 +121,13 @@ std::vector<SweepPoint> plan(const SweepFlags& f, const SweepPlan& sweep, const 
       }
     } else {
       for (float k : f.stepScales) {
-        checkRange(scene.volume.step * k, kStepRange, "--step-scales", "");
-        points.push_back({m, Knob::kStep, scene.volume.step * k});
+        if (!scene.volume.step) {
+          checkRange(scene.volume.stepScale * k, kStepScaleRange, "--step-scales", "");
+          points.push_back({m, Knob::kStepScale, scene.volume.stepScale * k});
+          continue;
+        }
+        checkRange(*scene.volume.step * k, kStepRange, "--step-scales", "");
+        points.push_back({m, Knob::kStep, *scene.volume.step * k});
       }
     }
   }
@@ -136,6 +144,7 @@ Scene configured(const Scene& base, const SweepPoint& p) {
   s.volume.solver = p.method.solver;
   if (p.knob == Knob::kTolerance) s.volume.tolerance = static_cast<float>(p.value);
   if (p.knob == Knob::kStep) s.volume.step = static_cast<float>(p.value);
+  if (p.knob == Knob::kStepScale) s.volume.stepScale = static_cast<float>(p.value);
   return s;
 }
 
@@ -240,12 +249,19 @@ Image referenceImage(const SweepFlags& f, const SweepPlan& sweep, const Scene& s
   }
   Scene fine = scene;
   fine.volume.solver = sweep.referenceSolver;
-  fine.volume.step = scene.volume.step * f.referenceStepScale;
   fine.volume.tolerance = std::min(scene.volume.tolerance, 1e-6f);
   fine.volume.maxEvaluations = std::max(fine.volume.maxEvaluations, 10000000u);
-  checkRange(fine.volume.step, kStepRange, "--reference-step-scale", "");
   std::ostringstream d;
-  d << solverName(sweep.referenceSolver) << " at step " << fine.volume.step;
+  d << solverName(sweep.referenceSolver);
+  if (scene.volume.step) {
+    fine.volume.step = *scene.volume.step * f.referenceStepScale;
+    checkRange(*fine.volume.step, kStepRange, "--reference-step-scale", "");
+    d << " at step " << *fine.volume.step;
+  } else {
+    fine.volume.stepScale = scene.volume.stepScale * f.referenceStepScale;
+    checkRange(fine.volume.stepScale, kStepScaleRange, "--reference-step-scale", "");
+    d << " at " << fine.volume.stepScale << " of the media's own step";
+  }
   description = d.str();
   Report report;
   RenderPlan whole;
@@ -394,8 +410,10 @@ void addSweepCommand(CLI::App& app, int& exitCode, Collective& team) {
   cmd->add_option("--methods", f->methods,
                   "Comma-separated: auto, any solver name, mc (Monte Carlo, with --mc-spp)")
       ->delimiter(',');
-  cmd->add_option("--step-scales", f->stepScales,
-                  "Fixed-step methods: multiples of the scene's step")
+  cmd->add_option(
+         "--step-scales", f->stepScales,
+         "Fixed-step methods: multiples of the scene's step (of the media's own step when the "
+         "scene gives none)")
       ->delimiter(',');
   cmd->add_option("--tols", f->tolerances, "Adaptive methods and auto: tolerances")->delimiter(',');
   cmd->add_option("--mc-spp", f->mcSpp, "Monte Carlo: samples per pixel")

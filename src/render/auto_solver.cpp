@@ -16,47 +16,13 @@ constexpr float kKronrodLargestGap = 0.104f;
 constexpr float kOpaqueDepth = 16.2f;
 // The tolerance at which heterogeneous media take the steps below (the default).
 constexpr float kReferenceTolerance = 1e-3f;
-// RK4 steps through heterogeneous media at the reference tolerance: 1.2 steps per
-// narrowest bump (1.7 voxels under trilinear interpolation, 0.42 of a noise period), and
-// at most 0.6 optical depths per step, split locally where the medium is denser
-// (SolveSettings::depthPerStep; RK4's error on exp(-tau) is tau^5 / 120 per step).
-constexpr float kStepsPerFeature = 1.0f / 1.2f;
+// RK4 steps through heterogeneous media at the reference tolerance: the medium's own step
+// (MediumScales: 1.2 steps per narrowest bump), and at most 0.6 optical depths per step,
+// split locally where the medium is denser (SolveSettings::depthPerStep; RK4's error on
+// exp(-tau) is tau^5 / 120 per step).
 constexpr float kDepthPerStep = 0.6f;
 // Steps across a spot beam's width at the ray.
 constexpr float kStepsPerBeam = 4.0f;
-
-float smallestVoxel(const SparseGrid& g) {
-  const Transform& m = g.indexToWorld();
-  float s = kInf;
-  for (const Vec3& axis : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)})
-    s = std::min(s, length(m.vector(axis)));
-  return s;
-}
-
-// The width of the narrowest bump a medium's density can have.
-float featureSize(const Medium& m) {
-  switch (m.type) {
-    case MediumType::Homogeneous:
-      return kInf;
-    case MediumType::Vdb:
-      // A one-voxel spike spreads over 1, 2 or 4 voxels under nearest, trilinear and
-      // tricubic interpolation.
-      if (!m.density) return kInf;
-      return smallestVoxel(*m.density) * (m.interpolation == Interpolation::Nearest     ? 1.0f
-                                          : m.interpolation == Interpolation::Trilinear ? 2.0f
-                                                                                        : 4.0f);
-    case MediumType::Procedural:
-      switch (m.procedural) {
-        case ProceduralKind::Noise:
-          return 0.5f / std::max(m.frequency, 1e-6f);  // a bump is half a period wide
-        case ProceduralKind::GaussianBlob:
-          return m.radius;
-        default:
-          return kInf;  // constant or linear: nothing to step over
-      }
-  }
-  return kInf;
-}
 
 }  // namespace
 
@@ -89,8 +55,9 @@ void coneCrossings(const Ray& ray, const Vec3& apex, const Vec3& axis, float cos
 }
 
 AutoSolver::AutoSolver(const std::vector<Light>& lights, const MediaSet& media,
+                       const MediumScales& scales, const StepLengths& lengths,
                        const rte::SolveSettings<float>& base)
-    : media_(media), base_(base) {
+    : media_(media), scales_(scales), lengths_(lengths), base_(base) {
   for (const Light& l : lights) {
     if (l.type != LightType::Point && l.type != LightType::Spot) continue;
     pointSources_.push_back({l.position, maxComponent(l.intensity)});
@@ -100,7 +67,6 @@ AutoSolver::AutoSolver(const std::vector<Light>& lights, const MediaSet& media,
                       inner > 0.0f ? std::cos(inner * kDegrees) : 2.0f,
                       std::tan(std::min(l.coneDeg, 89.0f) * kDegrees)});
   }
-  for (const Medium& m : media.media()) featureSize_.push_back(featureSize(m));
 }
 
 AutoSolver::SegmentMedia AutoSolver::mediaOn(const Ray& ray, float t0, float t1) const {
@@ -117,7 +83,8 @@ AutoSolver::SegmentMedia AutoSolver::mediaOn(const Ray& ray, float t0, float t1)
                        m.temperatureGrid != nullptr;
     const RGB t = m.homogeneous() ? m.majorant() : RGB(0.0f);
     sigma = std::min({sigma, t.x, t.y, t.z});
-    on.featureSize = std::min(on.featureSize, featureSize_[i]);
+    on.step = std::min(on.step, scales_.step(i));
+    on.shadowScale = std::min(on.shadowScale, scales_.shadowScale(i));
   }
   // Every point of a merged medium interval lies in at least one of these media.
   on.smallestExtinction = std::isinf(sigma) ? 0.0f : sigma;
@@ -184,9 +151,11 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     if (on.smallestExtinction > 0.0f)
       t1 = plan.end =
           std::min(t1, std::max(t0 + kOpaqueDepth / on.smallestExtinction, std::nextafter(t0, t1)));
-    // No two evaluations further apart than the scene's step (or a quarter beam) where the
+    // No two evaluations further apart than the scene's step (without one: the scale of the
+    // shadows cast into the media, MediumScales::shadowScale) or a quarter beam where the
     // map is densest: a panel may span that gap over Kronrod's widest node gap.
-    const float cap = std::min({base_.step, base_.maxStep, beamCap}) / kKronrodLargestGap;
+    lengths_.apply(on.shadowScale, s);
+    const float cap = std::min({s.step, s.maxStep, beamCap}) / kKronrodLargestGap;
     s.step = cap;
     // Flatten the largest factor of the integrand: the brightest point source's 1/r^2
     // (by intensity over squared distance to the ray).
@@ -211,19 +180,24 @@ SegmentPlan AutoSolver::radiance(const Ray& ray, float t0, float t1, float jitte
     // light, and Gauss-Kronrod's error estimate splits them where the tolerance asks.
     const auto map = rte::VariableChange<float>::make(s.sampling, t0, s.sigmaRef, s.delta, s.h);
     const float panels = std::ceil((map.toS(t1) - map.toS(t0)) / (densest * cap) - 1e-4f);
-    s.step = (t1 - t0) / std::clamp(panels, 1.0f, std::ceil((t1 - t0) / cap));
+    const float count = std::clamp(panels, 1.0f, std::ceil((t1 - t0) / cap));
+    s.step = (t1 - t0) / count;
+    // One panel covers the segment: a jittered start would only split it in two (its nodes
+    // are placed relative to the segment's ends, which move smoothly from pixel to pixel).
+    if (count == 1.0f) s.jitter = 0.0f;
     return plan;
   }
   plan.method = kHeterogeneousMethod;
-  setRelativeSteps(s, on.featureSize);
+  setRelativeSteps(s, on.step);
   s.step = std::max(s.minStep, std::min(s.step, beamCap));
   return plan;
 }
 
-void AutoSolver::setRelativeSteps(rte::SolveSettings<float>& s, float featureSize) const {
+void AutoSolver::setRelativeSteps(rte::SolveSettings<float>& s, float mediumStep) const {
+  lengths_.apply(mediumStep, s);  // min_step
   // RK4's error goes as h^4: a tolerance 10x tighter costs 10^(1/4) more steps.
   const float scale = std::pow(base_.tolerance / kReferenceTolerance, 0.25f);
-  s.step = std::max(s.minStep, featureSize * kStepsPerFeature * scale);
+  s.step = std::max(s.minStep, mediumStep * scale);
   s.depthPerStep = kDepthPerStep * scale;
 }
 
@@ -233,7 +207,7 @@ SegmentPlan AutoSolver::transmittance(const Ray& ray, float t0, float t1) const 
   rte::SolveSettings<float>& s = plan.settings;
   s = base_;
   s.jitter = 0.5f;
-  setRelativeSteps(s, mediaOn(ray, t0, t1).featureSize);
+  setRelativeSteps(s, mediaOn(ray, t0, t1).step);
   return plan;
 }
 

@@ -8,7 +8,8 @@
 //     with the equiangular change of variable around the brightest point or spot light
 //     (its 1/r^2 peak becomes flat). First panels are equal in that variable (in t
 //     without a point light), and where it is densest no two of their nodes are further
-//     apart than the scene's step; integration stops where T < 1e-7.
+//     apart than the scene's step or, without one, the scale of the shadows cast into the
+//     media (src/render/medium_scale.h); integration stops where T < 1e-7.
 //   - A heterogeneous medium on the segment: RK4 at a step relative to the medium, not to
 //     the scene's units: 1.2 steps per narrowest density bump (2 voxels under trilinear
 //     interpolation, half a noise period), split where the medium is denser so that no
@@ -25,6 +26,7 @@
 //   - Empty space costs nothing: only the media's occupied intervals are integrated.
 #include <vector>
 
+#include "src/render/medium_scale.h"
 #include "src/world/world.h"
 #include "volume/media/media_set.h"
 #include "volume/rte/settings.h"
@@ -46,8 +48,9 @@ class AutoSolver {
   static constexpr rte::Method kHeterogeneousMethod = rte::Method::kRk4;
   static constexpr rte::Method kShadowMethod = rte::Method::kRk4;
 
-  AutoSolver(const std::vector<Light>& lights, const MediaSet& media,
-             const rte::SolveSettings<float>& base);
+  // `scales` and `lengths` outlive the solver.
+  AutoSolver(const std::vector<Light>& lights, const MediaSet& media, const MediumScales& scales,
+             const StepLengths& lengths, const rte::SolveSettings<float>& base);
 
   // A camera-ray segment [t0, t1] inside one merged medium interval (emission and
   // in-scattering as the source).
@@ -70,7 +73,8 @@ class AutoSolver {
     bool homogeneous = true;
     bool sourceMayVary = false;    // something scatters (or emits through a grid)
     float smallestExtinction = 0;  // min sigma_t of homogeneous media; 0 if any other
-    float featureSize = kInf;      // narrowest density bump
+    float step = kInf;             // smallest of the media's own steps (MediumScales)
+    float shadowScale = kInf;      // smallest MediumScales::shadowScale
   };
   SegmentMedia mediaOn(const Ray& ray, float t0, float t1) const;
   // Breakpoints in (t0, t1): media box faces and spot cone crossings; and the cap on the
@@ -78,15 +82,16 @@ class AutoSolver {
   float addLightStructure(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
   void addMediumFaces(const Ray& ray, float t0, float t1, std::vector<float>& breaks) const;
 
-  // Heterogeneous media: RK4's step per density bump and optical depth per step, both
+  // Heterogeneous media: RK4 at the media's own step and optical depth per step, both
   // scaled by (tolerance / 1e-3)^(1/4).
-  void setRelativeSteps(rte::SolveSettings<float>& s, float featureSize) const;
+  void setRelativeSteps(rte::SolveSettings<float>& s, float mediumStep) const;
 
   const MediaSet& media_;
+  const MediumScales& scales_;
+  const StepLengths& lengths_;
   rte::SolveSettings<float> base_;
   std::vector<Spot> spots_;
   std::vector<PointSource> pointSources_;  // point and spot lights
-  std::vector<float> featureSize_;         // per medium (infinity: homogeneous)
 };
 
 // Where the ray crosses the cone {x : dot(x - apex, axis) = |x - apex| cosAngle} in front

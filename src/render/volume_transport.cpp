@@ -25,12 +25,13 @@ struct HeterogeneousExtinction {
 
 VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media,
                                  const VolumeSettings& v)
-    : ctx_(ctx), media_(media), mediumLights_(ctx.world, ctx.settings.mediumLightSamples) {
+    : ctx_(ctx),
+      media_(media),
+      mediumLights_(ctx.world, ctx.settings.mediumLightSamples),
+      scales_(ctx.world.bounds(), media),
+      lengths_{v.step, v.minStep, v.maxStep, v.stepScale} {
   if (v.solver) method_ = *v.solver;
-  base_.step = v.step;
   base_.tolerance = v.tolerance;
-  base_.minStep = v.minStep;
-  base_.maxStep = v.maxStep;
   base_.maxEvaluations = v.maxEvaluations;
   // T < 1e-7 from a segment's start: nothing behind is visible (rte::SolveSettings).
   base_.opaqueDepth = 16.2f;
@@ -44,7 +45,7 @@ VolumeTransport::VolumeTransport(const RenderContext& ctx, const MediaSet& media
         break;
       }
   }
-  if (!v.solver) auto_.emplace(ctx.world.lights, media, base_);
+  if (!v.solver) auto_.emplace(ctx.world.lights, media, scales_, lengths_, base_);
   // The scene loader refuses more media; MediaSet users index fixed arrays of this size.
   LVOX_CHECK(media.size() <= kMaxMedia, "more media than kMaxMedia");
 }
@@ -53,6 +54,10 @@ rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float
                                                            float jitter) const {
   rte::SolveSettings<float> s = base_;
   s.jitter = jitter;
+  // The media's own step where the scene gives none; a segment outside every medium (none
+  // is solved) would have no scale, so its length stands in.
+  const float natural = scales_.step(ray, t0, t1);
+  lengths_.apply(std::isfinite(natural) ? natural : std::max(t1 - t0, 1e-6f), s);
   if (equiangular_) {
     // Equiangular change of variable around the point light (Kulla & Fajardo 2012).
     const Vec3 toLight = equiangularCentre_ - ray.origin;

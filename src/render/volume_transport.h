@@ -83,6 +83,8 @@ class VolumeTransport {
   const MediaSet& media_;
   LightSet mediumLights_;  // render.medium_light_samples per area light and environment
   rte::Method method_ = rte::Method::kRk4;
+  MediumScales scales_;
+  StepLengths lengths_;
   std::optional<AutoSolver> auto_;  // the solver "auto"
   std::unique_ptr<const TransmittanceCache> shadowCache_;
   rte::SolveSettings<float> base_;

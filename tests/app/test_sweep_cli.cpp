@@ -97,6 +97,29 @@ TEST(SweepCli, WritesCsvAndPlotWithTheExpectedOrders) {
   EXPECT_GE(onFront, 1);
 }
 
+// A scene without a step: fixed-step methods sweep the scale of the media's own step, and
+// halving it halves euler's error as halving an absolute step does.
+TEST(SweepCli, ASceneWithoutAStepSweepsTheRelativeStep) {
+  const auto dir = test::tempDir();
+  std::string text = kScene;
+  const std::string step = R"("volume_integrator": {"step": 0.1})";
+  text.replace(text.find(step), step.size(), R"("volume_integrator": {"step_scale": 0.5})");
+  test::writeFile(dir / "scene.json", text);
+  fs::create_directories(dir / "out");
+  const RunResult r =
+      runLvox("sweep " + (dir / "scene.json").string() + " -o " + (dir / "out").string() +
+                  " --methods euler --step-scales 2,1 --no-plot",
+              dir);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<Row> rows = readCsv(dir / "out" / "sweep.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].at("parameter"), "step_scale");
+  EXPECT_EQ(rows[0].at("value"), "1");  // 2 x the scene's 0.5
+  const double e2 = delta(rows, "euler", 1.0), e1 = delta(rows, "euler", 0.5);
+  EXPECT_GT(e2 / e1, 1.6);
+  EXPECT_LT(e2 / e1, 2.4);
+}
+
 void expectSweepFailure(const std::string& args, const std::string& field) {
   const auto dir = test::tempDir();
   test::writeFile(dir / "scene.json", kScene);

@@ -16,8 +16,9 @@ common=(--width 128 --height 128 --spp 2 -q)
 # units wide near the spot, so its reference takes 1/128 of the scene's step; in the noise
 # field every camera evaluation costs a shadow solve, so 1/8 there (checked: GK at tol 1e-3
 # agrees with it to 0.008 %). The thick medium at 1/16 is itself 0.024 % off: 1/64 there.
+# The fog slab gives no step: its own is 0.6 optical depths (4 units), so 1/128 of it.
 declare -A refscale=([thin_beam]=0.0078125 [sharp_shadow]=0.03125 [thick_medium]=0.015625
-  [high_frequency]=0.125)
+  [high_frequency]=0.125 [fog_slab]=0.0078125)
 for scene in scenes/hard/*.json; do
   name=$(basename "$scene" .json)
   mkdir -p "$out/$name"

@@ -59,15 +59,18 @@ TEST(ConeCrossings, IgnoresTheMirrorConeAndTheOutsideOfTheInterval) {
 struct Planner {
   Scene scene;
   MediaSet media;
+  std::unique_ptr<MediumScales> scales;
+  StepLengths lengths;
   std::unique_ptr<AutoSolver> solver;
   explicit Planner(const std::string& text) : scene(parseScene(text, "/tmp/auto-plan.json")) {
     std::vector<std::string> warnings;
     media = MediaSet::build(scene.media, scene.volume.interpolation, warnings);
+    scales = std::make_unique<MediumScales>(scene.world.bounds(), media);
+    const VolumeSettings& v = scene.volume;
+    lengths = {v.step, v.minStep, v.maxStep, v.stepScale};
     rte::SolveSettings<float> base;
-    base.step = scene.volume.step;
-    base.maxStep = scene.volume.maxStep;
-    base.tolerance = scene.volume.tolerance;
-    solver = std::make_unique<AutoSolver>(scene.world.lights, media, base);
+    base.tolerance = v.tolerance;
+    solver = std::make_unique<AutoSolver>(scene.world.lights, media, *scales, lengths, base);
   }
 };
 
@@ -250,8 +253,10 @@ TEST(AutoSolverRegression, ThinBeamIsNeverSkipped) {
   ASSERT_GT(fine.value.x, 0.0f);
   const Pixel autoPx = renderPixel(beam, "auto", 0.5f, 1e-2f);
   EXPECT_NEAR(autoPx.value.x, fine.value.x, 1e-3 * fine.value.x);
+  // dopri5 steps over the beam, or lands one long step in it, depending on where its steps
+  // fall: either way off by more than half.
   const Pixel skipped = renderPixel(beam, "dopri5", 0.5f, 1e-2f);
-  EXPECT_LT(skipped.value.x, 0.5f * fine.value.x);
+  EXPECT_GT(std::abs(skipped.value.x - fine.value.x), 0.5f * fine.value.x);
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ TEST(HardCases, NoSolverProducesInvalidRadianceAtAnyStep) {
         scene.world.camera.width = scene.world.camera.height = 6;
         scene.render.spp = 1;
         scene.volume.solver = parseSolver(solver, "test", "solver");
-        scene.volume.step = base.volume.step * stepScale;
+        scene.volume.scaleStep(stepScale);
         Report report;
         const Image image = renderScene(scene.job(), report);
         const std::string what = path + " " + solver + " step x" + std::to_string(stepScale);

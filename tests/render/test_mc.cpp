@@ -180,7 +180,7 @@ TEST(MonteCarloMedia, SingleScatteringAgreesWithTheOdeRendererOnTheHardCases) {
     ode.render.mode = Mode::kDirect;
     ode.render.spp = 16;
     ode.volume.solver = rte::Method::kRk4;
-    ode.volume.step = base.volume.step / 4.0f;
+    ode.volume.scaleStep(0.25f);
     ode.volume.sampling = rte::Sampling::kEquiangular;
     mc.render.mode = Mode::kMc;
     mc.render.spp = 4096;

@@ -3,6 +3,8 @@
 // before any mesh is read.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "src/core/error.h"
 #include "src/scene/scene_loader.h"
 #include "test_util.h"
@@ -99,6 +101,44 @@ TEST(SettingsSources, FlagsOverrideTheFileAsTypedValues) {
   EXPECT_EQ(s.volume.interpolation, Interpolation::Trilinear);
   const Scene automatic = parseScene(text, "/tmp/settings.json");
   EXPECT_FALSE(automatic.volume.solver.has_value()) << "auto is the empty solver";
+}
+
+// Steps: absent means relative to the media (step_scale times their own step); a given
+// step is in scene units, and step_scale cannot scale it.
+TEST(SettingsSources, AStepIsRelativeUnlessTheSceneGivesOne) {
+  const std::string base = R"({"camera": {"position": [0,0,1], "look_at": [0,0,0]},
+    "volume_integrator": {INTEGRATOR}})";
+  auto with = [&](const std::string& integrator) {
+    std::string text = base;
+    text.replace(text.find("INTEGRATOR"), 10, integrator);
+    return text;
+  };
+  const Scene relative = parseScene(with(R"("step_scale": 0.5)"), "/tmp/settings.json");
+  EXPECT_FALSE(relative.volume.step.has_value());
+  EXPECT_FALSE(relative.volume.minStep.has_value());
+  EXPECT_FALSE(relative.volume.maxStep.has_value());
+  EXPECT_EQ(relative.volume.stepScale, 0.5f);
+  const Scene absolute = parseScene(with(R"("step": 0.2, "max_step": 3)"), "/tmp/settings.json",
+                                    {{"--step", "volume_integrator", "step", 0.05}});
+  ASSERT_TRUE(absolute.volume.step.has_value());
+  EXPECT_EQ(*absolute.volume.step, 0.05f);  // the flag
+  EXPECT_EQ(absolute.volume.maxStep, 3.0f);
+  EXPECT_FALSE(absolute.volume.minStep.has_value());
+  // What a render's header records: "relative" where the scene gave no length.
+  std::map<std::string, std::string> described;
+  const SettingList list = describe(relative.volume);
+  for (const auto& [field, value] : list.items()) described[field] = value;
+  EXPECT_EQ(described["volume_integrator.step"], "relative");
+  EXPECT_EQ(described["volume_integrator.step_scale"], "0.5");
+  EXPECT_EQ(described["volume_integrator.max_step"], "relative");
+  const std::pair<std::string, std::string> refused[] = {
+      {R"("step": 0.1, "step_scale": 2)", "volume_integrator.step_scale: scales the relative step"},
+      {R"("step_scale": 0)", "volume_integrator.step_scale: value 0 is outside"},
+      {R"("min_step": 2, "max_step": 1)", "volume_integrator.min_step: exceeds max_step"}};
+  for (const auto& [integrator, expected] : refused) {
+    const std::string msg = errorOf(with(integrator));
+    EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+  }
 }
 
 TEST(SettingsSources, AFlagForASectionThatIsNotAnObjectIsAnError) {
