@@ -49,6 +49,9 @@ VolumeSettings parseVolumeSettings(JsonObject v) {
       v.integer("max_evaluations", 1, 1 << 30, static_cast<int>(s.maxEvaluations)));
   s.majorant = v.choice("majorant", std::string(majorantName(s.majorant)), parseMajorant);
   s.shadowCache = v.integer("shadow_cache", 0, 1024, s.shadowCache);
+  s.environmentCache = v.integer("environment_cache", 0, 256, s.environmentCache);
+  s.environmentDirections =
+      v.integer("environment_cache_directions", 16, 4096, s.environmentDirections);
   v.finish();
   return s;
 }
@@ -74,6 +77,8 @@ SettingList describe(const VolumeSettings& s) {
   l.add(v + "max_evaluations", s.maxEvaluations);
   l.add(v + "majorant", majorantName(s.majorant));
   l.add(v + "shadow_cache", s.shadowCache);
+  l.add(v + "environment_cache", s.environmentCache);
+  l.add(v + "environment_cache_directions", s.environmentDirections);
   return l;
 }
 

@@ -46,6 +46,13 @@ struct VolumeSettings {
   // N > 0 looks the transmittance up in a grid of N cells along the media's longest side
   // per light, solved once per node (src/render/transmittance_cache.h).
   int shadowCache = 64;
+  // Direct mode's constant environment in the media: 0 samples a random direction and solves
+  // its shadow ray at every in-scatter sample; N > 0 caches the light arriving from the
+  // environment as spherical harmonics on a grid of N cells along the heterogeneous media's
+  // longest side, each node projecting `environmentDirections` shadow rays
+  // (src/render/environment_cache.h).
+  int environmentCache = 24;
+  int environmentDirections = 32;
 };
 
 // Reads the "volume_integrator" object; unknown keys and out-of-range values throw.

@@ -73,6 +73,7 @@ class AutoSolver {
     bool homogeneous = true;
     bool sourceMayVary = false;    // something scatters (or emits through a grid)
     float smallestExtinction = 0;  // min sigma_t of homogeneous media; 0 if any other
+    float extinctionBound = 0;     // sum of the media's majorants: sigma_t <= it
     float step = kInf;             // smallest of the media's own steps (MediumScales)
     float shadowScale = kInf;      // smallest MediumScales::shadowScale
   };

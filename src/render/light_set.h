@@ -39,9 +39,11 @@ class LightSet {
   // Only the point, spot and directional lights (no random numbers).
   template <class F>
   void forEachDeltaSample(const Vec3& p, F&& f) const;
-  // Only the environment and the emissive triangles.
+  // Only the environment and the emissive triangles; without the constant environment's
+  // samples when a cache gives its light (src/render/environment_cache.h).
   template <class F>
-  void forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const;
+  void forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f,
+                         bool constantEnvironment = true) const;
 
   bool hasAreaLights() const { return !emissiveTriangles_.empty(); }
   float emissiveArea() const { return totalArea_; }
@@ -83,9 +85,10 @@ void LightSet::forEachDeltaSample(const Vec3& p, F&& f) const {
 }
 
 template <class F>
-void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f) const {
+void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f,
+                                 bool constantEnvironment) const {
   const float weight = 1.0f / static_cast<float>(areaSamples_);
-  if (!isBlack(environment_)) {
+  if (constantEnvironment && !isBlack(environment_)) {
     for (int i = 0; i < areaSamples_; ++i) {
       LightSample s;
       const float u1 = rng.uniform(), u2 = rng.uniform();

@@ -111,6 +111,22 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     work.throwIfExhausted();
     if (volume.shadowCache()) report.memory["shadow_cache"] = volume.shadowCache()->memoryBytes();
   }
+  if (settings.mode == Mode::kDirect && job.volume.environmentCache > 0 &&
+      media.anyHeterogeneous()) {
+    PhaseTimer timer(report, "environment_cache");
+    const uint64_t side = static_cast<uint64_t>(job.volume.environmentCache) + 2;
+    budget.reserve(side * side * side * sizeof(RGB) * kShCoefficients, job.sceneFile,
+                   "volume_integrator.environment_cache", "the environment's light cache");
+    const uint64_t cameraRays =
+        static_cast<uint64_t>(world.camera.width) * world.camera.height * plan.spp;
+    const uint64_t cacheEvals = volume.buildEnvironmentCache(
+        job.volume.environmentCache, job.volume.environmentDirections, cameraRays);
+    report.add("environment_cache_medium_evals", cacheEvals);
+    work.charge(cacheEvals, "the environment's light cache");
+    work.throwIfExhausted();
+    if (volume.environmentCache())
+      report.memory["environment_cache"] = volume.environmentCache()->memoryBytes();
+  }
   const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
   const MajorantTracker tracker(media, job.volume.majorant == MajorantKind::kGrid);
   report.memory["media"] = media.memoryBytes();

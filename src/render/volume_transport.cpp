@@ -119,6 +119,29 @@ uint64_t VolumeTransport::buildShadowCache(int resolution, uint64_t cameraRays) 
   return evaluations.load();
 }
 
+uint64_t VolumeTransport::buildEnvironmentCache(int resolution, int directions,
+                                                uint64_t cameraRays) {
+  if (isBlack(mediumLights_.environment())) return 0;
+  Bounds3 bounds;
+  for (const Medium& m : media_.media())
+    if (!m.homogeneous()) bounds.extend(m.bounds);
+  // As for the shadow cache: it pays when the camera rays' environment samples (16 per ray
+  // or more) outnumber the node's shadow rays.
+  const uint64_t shadowRays =
+      TransmittanceCache::nodeCount(bounds, resolution) * static_cast<uint64_t>(directions);
+  if (shadowRays == 0 || cameraRays * 16 < shadowRays) return 0;
+  std::atomic<uint64_t> evaluations{0};
+  environmentCache_ = std::make_unique<const EnvironmentCache>(
+      mediumLights_.environment(), bounds, resolution, directions, [&](const Ray& ray) {
+        if (ctx_.tracer.occluded(ray)) return RGB(0.0f);
+        rte::SolveCounts counts;
+        const RGB t = transmittance(ray, counts);
+        evaluations += counts.mediumEvals;
+        return t;
+      });
+  return evaluations.load();
+}
+
 RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
                                          const MediumCoefficients* perMedium, Rng lightRng,
                                          rte::SolveCounts& counts) const {
@@ -149,7 +172,26 @@ RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
     if (isBlack(s.radiance)) continue;
     add(s, useCache && shadowCache_->cached(l) ? static_cast<long>(l) : -1);
   }
-  mediumLights_.forEachAreaSample(x, nullptr, lightRng, [&](const LightSample& s) { add(s, -1); });
+  // The constant environment from the cache, convolved with each medium's phase
+  // (Funk-Hecke: band l scaled by the phase's Legendre moment chi_l); light leaving towards
+  // the camera came from behind x, hence the harmonics at viewDir.
+  const bool environmentCached = environmentCache_ && environmentCache_->covers(x);
+  if (environmentCached) {
+    RGB arriving[kShCoefficients];
+    environmentCache_->lookup(x, arriving);
+    float yhat[kShCoefficients];
+    shBasis(viewDir, kShCoefficients, yhat);
+    for (size_t i = 0; i < media_.size(); ++i) {
+      if (isBlack(perMedium[i].sigmaS)) continue;
+      RGB scattered[kShCoefficients];
+      scattered[0] = arriving[0];
+      for (int k = 1; k < kShCoefficients; ++k)
+        scattered[k] = arriving[k] * media_[i].phase.moment(shBand(k));
+      source += perMedium[i].sigmaS * shDot(scattered, yhat, kShCoefficients);
+    }
+  }
+  mediumLights_.forEachAreaSample(
+      x, nullptr, lightRng, [&](const LightSample& s) { add(s, -1); }, !environmentCached);
   return source;
 }
 

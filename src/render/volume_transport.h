@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "src/render/auto_solver.h"
+#include "src/render/environment_cache.h"
 #include "src/render/render_context.h"
 #include "src/render/transmittance_cache.h"
 #include "volume/media/media_set.h"
@@ -70,6 +71,13 @@ class VolumeTransport {
   // reaches the grid's nodes. Returns the evaluations spent (0: not built).
   uint64_t buildShadowCache(int resolution, uint64_t cameraRays);
   const TransmittanceCache* shadowCache() const { return shadowCache_.get(); }
+  // The constant environment's light in the heterogeneous media, cached at `resolution`
+  // cells along their longest side from `directions` shadow rays per node
+  // (volume_integrator.environment_cache); from then on singleScatterSource takes the
+  // environment from it inside them. Built when the scene has a constant environment and
+  // `cameraRays` x 16 reaches the shadow rays it solves. Returns the evaluations spent.
+  uint64_t buildEnvironmentCache(int resolution, int directions, uint64_t cameraRays);
+  const EnvironmentCache* environmentCache() const { return environmentCache_.get(); }
 
  private:
   rte::SolveSettings<float> segmentSettings(const Ray& ray, float t0, float t1, float jitter) const;
@@ -87,6 +95,7 @@ class VolumeTransport {
   StepLengths lengths_;
   std::optional<AutoSolver> auto_;  // the solver "auto"
   std::unique_ptr<const TransmittanceCache> shadowCache_;
+  std::unique_ptr<const EnvironmentCache> environmentCache_;
   rte::SolveSettings<float> base_;
   bool equiangular_ = false;
   bool distanceSampling_ = false;
