@@ -71,14 +71,22 @@ RGB TransmittanceCache::lookup(size_t light, const Vec3& x) const {
     i[a] = std::min(static_cast<int>(u), n_[a] - 2);
     f[a] = u - static_cast<float>(i[a]);
   }
-  auto at = [&](int dx, int dy, int dz) {
-    return grid[(static_cast<size_t>(i[2] + dz) * n_[1] + static_cast<size_t>(i[1] + dy)) * n_[0] +
-                static_cast<size_t>(i[0] + dx)];
-  };
-  auto lerp = [](const RGB& a, const RGB& b, float t) { return a + (b - a) * t; };
-  const RGB c00 = lerp(at(0, 0, 0), at(1, 0, 0), f[0]), c10 = lerp(at(0, 1, 0), at(1, 1, 0), f[0]);
-  const RGB c01 = lerp(at(0, 0, 1), at(1, 0, 1), f[0]), c11 = lerp(at(0, 1, 1), at(1, 1, 1), f[0]);
-  return lerp(lerp(c00, c10, f[1]), lerp(c01, c11, f[1]), f[2]);
+  // In the logarithm: transmittance falls exponentially, and linear interpolation of a
+  // convex function overestimates it (docs/results.md, "Shadow transmittance cache"). A
+  // node whose transmittance underflowed to 0 counts as 1e-30.
+  RGB logT(0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
+    const float w = (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) *
+                    (dz ? f[2] : 1.0f - f[2]);
+    if (w == 0.0f) continue;
+    const RGB& t = grid[(static_cast<size_t>(i[2] + dz) * static_cast<size_t>(n_[1]) +
+                         static_cast<size_t>(i[1] + dy)) *
+                            static_cast<size_t>(n_[0]) +
+                        static_cast<size_t>(i[0] + dx)];
+    for (int c = 0; c < 3; ++c) logT[c] += w * std::log(std::max(t[c], 1e-30f));
+  }
+  return RGB(std::exp(logT.x), std::exp(logT.y), std::exp(logT.z));
 }
 
 size_t TransmittanceCache::memoryBytes() const {

@@ -1,8 +1,8 @@
 #pragma once
 // Transmittance from points in the media to each point, spot and directional light, solved
-// once per node of a regular grid over the media and interpolated trilinearly (a deep
-// shadow map in world space): direct mode's in-scatter samples then cost a lookup instead
-// of a shadow ray through the media. Surfaces still occlude by their own (Embree) ray; only
+// once per node of a regular grid over the media and interpolated trilinearly in its
+// logarithm (a deep shadow map in world space): direct mode's in-scatter samples then cost
+// a lookup instead of a shadow ray through the media. Surfaces still occlude by their own (Embree) ray; only
 // the media's part is cached, which is exact to multiply: an occluder between the point
 // and the light makes the product 0 whatever the media did. Error and cost against exact
 // shadow rays: docs/results.md, "Shadow transmittance cache".
