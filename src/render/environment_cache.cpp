@@ -19,14 +19,8 @@ Vec3 EnvironmentCache::latticeDirection(int j, int n) {
 
 EnvironmentCache::EnvironmentCache(const RGB& radiance, const Bounds3& bounds, int resolution,
                                    int directions, const Transmittance& transmittance)
-    : bounds_(bounds) {
-  if (bounds.empty() || resolution < 1 || directions < 1) return;
-  const Vec3 extent = bounds.diagonal();
-  const float side = std::max({extent.x, extent.y, extent.z}) / static_cast<float>(resolution);
-  for (int a = 0; a < 3; ++a) {
-    n_[a] = std::max(2, static_cast<int>(std::ceil(extent[a] / side)) + 1);
-    cell_[a] = extent[a] > 0.0f ? extent[a] / static_cast<float>(n_[a] - 1) : 1.0f;
-  }
+    : grid_(bounds, resolution) {
+  if (grid_.nodes() == 0 || directions < 1) return;
   std::vector<Vec3> lattice;
   std::vector<float> basis;  // kShCoefficients per direction
   for (int j = 0; j < directions; ++j) {
@@ -37,18 +31,13 @@ EnvironmentCache::EnvironmentCache(const RGB& radiance, const Bounds3& bounds, i
   }
   // Each direction stands for 4 pi / n of the sphere: c_k = (1 / n) sum L T Yhat_k.
   const RGB weight = radiance / static_cast<float>(directions);
-  coefficients_.assign(nodes() * kShCoefficients, RGB(0.0f));
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes(), 16), [&](const auto& range) {
+  coefficients_.assign(grid_.nodes() * kShCoefficients, RGB(0.0f));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, grid_.nodes(), 16), [&](const auto& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
-      const size_t x = i % static_cast<size_t>(n_[0]);
-      const size_t y = (i / static_cast<size_t>(n_[0])) % static_cast<size_t>(n_[1]);
-      const size_t z = i / (static_cast<size_t>(n_[0]) * static_cast<size_t>(n_[1]));
-      const Vec3 p = bounds_.lo + mul(cell_, Vec3(static_cast<float>(x), static_cast<float>(y),
-                                                  static_cast<float>(z)));
       RGB* c = &coefficients_[i * kShCoefficients];
       for (int j = 0; j < directions; ++j) {
         Ray shadow;
-        shadow.origin = p;
+        shadow.origin = grid_.position(i);
         shadow.dir = lattice[static_cast<size_t>(j)];
         shadow.tmin = 0.0f;
         shadow.tmax = kInf;
@@ -61,28 +50,12 @@ EnvironmentCache::EnvironmentCache(const RGB& radiance, const Bounds3& bounds, i
 }
 
 void EnvironmentCache::lookup(const Vec3& x, RGB* out) const {
-  float f[3];
-  int i[3];
-  for (int a = 0; a < 3; ++a) {
-    const float u =
-        std::clamp((x[a] - bounds_.lo[a]) / cell_[a], 0.0f, static_cast<float>(n_[a] - 1));
-    i[a] = std::min(static_cast<int>(u), n_[a] - 2);
-    f[a] = u - static_cast<float>(i[a]);
-  }
   // Per channel: the mean in its logarithm, the other coefficients as fractions of their
   // node's mean. A node no direction of which reaches the sky (inside a surface: a cloud's
   // transmittance is never exactly 0) is no sample of the light around it and is left out.
   std::fill(out, out + kShCoefficients, RGB(0.0f));
   RGB logMean(0.0f), weights(0.0f);
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
-    const float w =
-        (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) * (dz ? f[2] : 1.0f - f[2]);
-    if (w == 0.0f) continue;
-    const size_t node = (static_cast<size_t>(i[2] + dz) * static_cast<size_t>(n_[1]) +
-                         static_cast<size_t>(i[1] + dy)) *
-                            static_cast<size_t>(n_[0]) +
-                        static_cast<size_t>(i[0] + dx);
+  grid_.forEachCorner(x, [&](size_t node, float w) {
     const RGB* c = &coefficients_[node * kShCoefficients];
     for (int ch = 0; ch < 3; ++ch) {
       if (!(c[0][ch] > 0.0f)) continue;
@@ -90,7 +63,7 @@ void EnvironmentCache::lookup(const Vec3& x, RGB* out) const {
       logMean[ch] += w * std::log(c[0][ch]);
       for (int k = 1; k < kShCoefficients; ++k) out[k][ch] += w * c[k][ch] / c[0][ch];
     }
-  }
+  });
   for (int ch = 0; ch < 3; ++ch) {
     if (!(weights[ch] > 0.0f)) continue;  // every corner in the dark: all zero
     out[0][ch] = std::exp(logMean[ch] / weights[ch]);

@@ -21,6 +21,7 @@
 
 #include "src/core/math.h"
 #include "src/core/spherical_harmonics.h"
+#include "src/render/node_grid.h"
 
 namespace lvox {
 
@@ -35,20 +36,18 @@ class EnvironmentCache {
   EnvironmentCache(const RGB& radiance, const Bounds3& bounds, int resolution, int directions,
                    const Transmittance& transmittance);
 
-  bool covers(const Vec3& x) const { return bounds_.contains(x); }
+  bool covers(const Vec3& x) const { return grid_.contains(x); }
   // The harmonics of the light arriving at x: c_k = (1 / 4 pi) integral L T Yhat_k dw
   // (kShCoefficients of them).
   void lookup(const Vec3& x, RGB* coefficients) const;
-  size_t nodes() const { return static_cast<size_t>(n_[0]) * n_[1] * n_[2]; }
+  size_t nodes() const { return grid_.nodes(); }
   size_t memoryBytes() const { return coefficients_.size() * sizeof(RGB); }
 
   // Direction j of n on the spherical Fibonacci lattice (equal areas of 4 pi / n).
   static Vec3 latticeDirection(int j, int n);
 
  private:
-  Bounds3 bounds_;
-  int n_[3] = {0, 0, 0};           // nodes per axis
-  Vec3 cell_;                      // node spacing
+  NodeGrid grid_;
   std::vector<RGB> coefficients_;  // kShCoefficients per node
 };
 

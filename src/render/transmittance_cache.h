@@ -2,8 +2,8 @@
 // Transmittance from points in the media to each point, spot and directional light, solved
 // once per node of a regular grid over the media and interpolated trilinearly in its
 // logarithm (a deep shadow map in world space): direct mode's in-scatter samples then cost
-// a lookup instead of a shadow ray through the media. Surfaces still occlude by their own (Embree) ray; only
-// the media's part is cached, which is exact to multiply: an occluder between the point
+// a lookup instead of a shadow ray through the media. Surfaces still occlude by their own (Embree)
+// ray; only the media's part is cached, which is exact to multiply: an occluder between the point
 // and the light makes the product 0 whatever the media did. Error and cost against exact
 // shadow rays: docs/results.md, "Shadow transmittance cache".
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "src/core/math.h"
+#include "src/render/node_grid.h"
 #include "src/world/world.h"
 
 namespace lvox {
@@ -26,11 +27,11 @@ class TransmittanceCache {
   TransmittanceCache(const std::vector<Light>& lights, const Bounds3& bounds, int resolution,
                      const Transmittance& transmittance);
 
-  bool covers(const Vec3& x) const { return bounds_.contains(x); }
+  bool covers(const Vec3& x) const { return grid_.contains(x); }
   // Trilinear T from x towards lights[light]; x must be covered.
   RGB lookup(size_t light, const Vec3& x) const;
   bool cached(size_t light) const { return light < grids_.size() && !grids_[light].empty(); }
-  size_t nodes() const { return static_cast<size_t>(n_[0]) * n_[1] * n_[2]; }
+  size_t nodes() const { return grid_.nodes(); }
   size_t memoryBytes() const;
 
   // The shadow ray from x towards `light` (distance shortened as direct mode's rays are).
@@ -39,9 +40,7 @@ class TransmittanceCache {
   static size_t nodeCount(const Bounds3& bounds, int resolution);
 
  private:
-  Bounds3 bounds_;
-  int n_[3] = {0, 0, 0};  // nodes per axis
-  Vec3 cell_;             // node spacing
+  NodeGrid grid_;
   std::vector<std::vector<RGB>> grids_;
 };
 
