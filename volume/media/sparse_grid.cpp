@@ -40,6 +40,8 @@ thread_local LeafEntry lastLeaf{};
 // The leaf region holding voxel (i, j, k), found through the lower-node index.
 LeafView findLeaf(const SparseGrid::Trees& trees, int i, int j, int k) {
   using LowerT = LowerNodeIndex::LowerT;
+  if (trees.leafTable)
+    if (const float* data = trees.leafTable->find(i, j, k)) return {data, 0.0f};
   const openvdb::Coord c(i, j, k);
   if (const LowerT* lower = trees.lowerNodes->find(i, j, k)) {
     const openvdb::Index n = LowerT::coordToOffset(c);
@@ -437,10 +439,13 @@ MajorantLevel SparseGrid::cheapestMajorantLevel(float densityScale, Interpolatio
   return static_cast<MajorantLevel>(best);
 }
 
+bool SparseGrid::hasLeafTable() const { return trees_ && trees_->leafTable.has_value(); }
+
 size_t SparseGrid::memoryBytes() const {
   if (!trees_) return 0;
   return trees_->values->memUsage() + trees_->blockMax->memUsage() + trees_->nodeMax->memUsage() +
-         trees_->lowerNodes->memoryBytes();
+         trees_->lowerNodes->memoryBytes() +
+         (trees_->leafTable ? trees_->leafTable->memoryBytes() : 0);
 }
 
 }  // namespace lvox

@@ -77,6 +77,9 @@ class SparseGrid {
 
   // Bytes of the value tree and the majorant trees (OpenVDB's memUsage).
   size_t memoryBytes() const;
+  // Whether lookups find leaves through a flat table over the active box (built where it
+  // costs at most 1/8 of the tree's bytes; else through the lower-node index).
+  bool hasLeafTable() const;
 
  private:
   std::shared_ptr<const Trees> trees_;

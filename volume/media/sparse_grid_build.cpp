@@ -177,6 +177,41 @@ LowerNodeIndex::LowerNodeIndex(const openvdb::FloatTree& tree) {
   }
 }
 
+std::optional<LeafTable> LeafTable::build(const openvdb::FloatTree& tree,
+                                          const openvdb::CoordBBox& activeBox,
+                                          const LowerNodeIndex& index, size_t maxBytes) {
+  if (activeBox.empty()) return std::nullopt;
+  LeafTable t;
+  size_t entries = 1;
+  for (int a = 0; a < 3; ++a) {
+    t.lo_[a] = activeBox.min()[a] >> kLog2;
+    t.n_[a] = static_cast<uint32_t>((activeBox.max()[a] >> kLog2) - t.lo_[a] + 1);
+    entries *= t.n_[a];
+  }
+  if (entries * sizeof(const float*) > maxBytes) return std::nullopt;
+  // Regions no lower node holds are the background or an upper node's or the root's tile:
+  // all 0 unless the index says otherwise.
+  static const float kZeros[1 << (3 * kLog2)] = {};
+  t.entries_.assign(entries, index.valuesOutside() ? nullptr : kZeros);
+  for (auto upper = tree.root().cbeginChildOn(); upper; ++upper)
+    for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
+      const LowerT& node = *lower;
+      for (openvdb::Index n = 0; n < LowerT::NUM_VALUES; ++n) {
+        const openvdb::Coord o = node.offsetToGlobalCoord(n);
+        const auto x = static_cast<uint32_t>((o.x() >> kLog2) - t.lo_[0]);
+        const auto y = static_cast<uint32_t>((o.y() >> kLog2) - t.lo_[1]);
+        const auto z = static_cast<uint32_t>((o.z() >> kLog2) - t.lo_[2]);
+        if (x >= t.n_[0] || y >= t.n_[1] || z >= t.n_[2]) continue;
+        const float*& entry = t.entries_[(static_cast<size_t>(z) * t.n_[1] + y) * t.n_[0] + x];
+        if (node.isChildMaskOn(n))
+          entry = node.getTable()[n].getChild()->buffer().data();
+        else
+          entry = node.getTable()[n].getValue() == 0.0f ? kZeros : nullptr;
+      }
+    }
+  return t;
+}
+
 std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Ptr grid,
                                                           const std::string& file,
                                                           const std::string& field,
@@ -216,6 +251,8 @@ std::shared_ptr<const SparseGrid::Trees> buildSparseTrees(openvdb::FloatGrid::Pt
   trees->nodeMax = nodeMax;
   trees->id = nextId.fetch_add(1);
   trees->lowerNodes.emplace(tree);
+  trees->leafTable =
+      LeafTable::build(tree, trees->activeBox, *trees->lowerNodes, report.treeBytes / 8);
   static_assert(kLeafDim == 8, "majorant blocks are the value tree's 8^3 leaves");
   return trees;
 }

@@ -199,6 +199,7 @@ TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
   };
   fill(*reference);
   const SparseGrid g = gridFrom("kinds.vdb", fill);
+  EXPECT_FALSE(g.hasLeafTable());  // its active box spans 2^27 voxels: through the index
   const auto expected = [&](const Coord& c) {
     float v = 0.0f;
     return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
@@ -220,6 +221,62 @@ TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
     nonZero += expected(c) > 0.0f;
   }
   EXPECT_GT(nonZero, 1000);  // the tiles and voxels were reached, not only empty space
+}
+
+// The same through the flat leaf table (a compact grid: a dense block and scattered
+// voxels): leaf buffers, regions of zeros, a leaf-sized tile of another value (left to the
+// index), places outside the active box, and stencils across leaves.
+TEST(SparseGrid, LookupsThroughTheLeafTableFindWhatOpenVdbHolds) {
+  using openvdb::Coord;
+  openvdb::initialize();
+  auto reference = openvdb::FloatGrid::create(0.0f);
+  const auto fill = [](openvdb::FloatGrid& grid) {
+    auto acc = grid.getAccessor();
+    for (int i = 0; i < 48; ++i)
+      for (int j = 0; j < 48; ++j)
+        for (int k = 0; k < 48; ++k) acc.setValue(Coord(i, j, k), 0.5f + 0.01f * float(i ^ j ^ k));
+    Rng rng(21, 22);
+    for (int n = 0; n < 100; ++n)
+      acc.setValue(Coord(static_cast<int>(rng.uniform() * 160.0f) - 80,
+                         static_cast<int>(rng.uniform() * 160.0f) - 80,
+                         static_cast<int>(rng.uniform() * 160.0f) - 80),
+                   0.1f + rng.uniform());
+    acc.setValue(Coord(-5, -5, -5), -2.0f);  // clamped to 0
+    grid.tree().addTile(1, Coord(-64, 40, 40), 0.25f, true);
+  };
+  fill(*reference);
+  const SparseGrid g = gridFrom("table.vdb", fill);
+  ASSERT_TRUE(g.hasLeafTable());
+  float v = 0.0f;
+  const auto expected = [&](const Coord& c) {
+    return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
+  };
+  Rng rng(7, 8);
+  int nonZero = 0;
+  for (int n = 0; n < 40000; ++n) {  // inside and around the active box
+    const Coord c(static_cast<int>(rng.uniform() * 240.0f) - 120,
+                  static_cast<int>(rng.uniform() * 240.0f) - 120,
+                  static_cast<int>(rng.uniform() * 240.0f) - 120);
+    ASSERT_EQ(g.voxel(c.x(), c.y(), c.z()), expected(c)) << c;
+    nonZero += expected(c) > 0.0f;
+  }
+  EXPECT_GT(nonZero, 200);                 // the dense block is 0.8 % of the cube: about 330 hits
+  EXPECT_EQ(g.voxel(-60, 44, 44), 0.25f);  // the tile
+  // Trilinear lookups across leaf faces equal the blend of OpenVDB's voxels.
+  for (int n = 0; n < 2000; ++n) {
+    const Vec3 p(rng.uniform() * 56.0f - 4.0f, rng.uniform() * 56.0f - 4.0f,
+                 rng.uniform() * 56.0f - 4.0f);
+    const int i = static_cast<int>(std::floor(p.x)), j = static_cast<int>(std::floor(p.y)),
+              k = static_cast<int>(std::floor(p.z));
+    const float tx = p.x - float(i), ty = p.y - float(j), tz = p.z - float(k);
+    double blend = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      const int dx = c & 1, dy = c >> 1 & 1, dz = c >> 2;
+      blend += double(expected(Coord(i + dx, j + dy, k + dz))) * (dx ? tx : 1 - tx) *
+               (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
+    }
+    ASSERT_NEAR(g.sampleIndex(p, Interpolation::Trilinear), blend, 1e-5) << p;
+  }
 }
 
 // A voxel at -2^31 made the bounds' stencil padding overflow int (found by fuzzing): grids
