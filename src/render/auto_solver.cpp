@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "volume/rte/change_of_variable.h"
 
@@ -93,9 +92,7 @@ AutoSolver::SegmentMedia AutoSolver::mediaOn(const Ray& ray, float t0, float t1)
   }
   // Every point of a merged medium interval lies in at least one of these media.
   on.smallestExtinction = std::isinf(sigma) ? 0.0f : sigma;
-  // A sliver at a medium's edge (a shadow ray's interval of 2.4e-7 units in Sponza's smoke)
-  // may find no medium on it: one step then.
-  if (std::isinf(on.step)) on.step = std::max(t1 - t0, std::numeric_limits<float>::min());
+  if (std::isinf(on.step)) on.step = MediumScales::segmentStep(t0, t1);  // no medium found
   if (std::isinf(on.shadowScale)) on.shadowScale = on.step;
   return on;
 }

@@ -84,7 +84,7 @@ float MediumScales::step(const Ray& ray, float t0, float t1) const {
     media_[i].intervals(ray, t0, t1, spans);
     if (!spans.empty()) s = step_[i];
   }
-  return s;
+  return std::isinf(s) ? segmentStep(t0, t1) : s;
 }
 
 void StepLengths::apply(float natural, rte::SolveSettings<float>& s) const {

@@ -12,6 +12,8 @@
 //     of its box's diagonal. Shadows come from surfaces (1/128 of the surfaces' bounding
 //     diagonal) and from heterogeneous media (their own step). Spot beams are auto's
 //     business (it caps steps inside them, src/render/auto_solver.h).
+#include <algorithm>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -30,8 +32,14 @@ class MediumScales {
   float featureSize(size_t i) const { return featureSize_[i]; }
   // Medium `i`'s own step, as in the header comment.
   float step(size_t i) const { return step_[i]; }
-  // The smallest step of the media that may be non-zero on [t0, t1] (infinity: none).
+  // The smallest step of the media that may be non-zero on [t0, t1]; segmentStep(t0, t1)
+  // when none is found on it.
   float step(const Ray& ray, float t0, float t1) const;
+  // The step of a segment on which no medium is found: the whole segment. A sliver at a
+  // medium's edge (a shadow ray's interval of 2.4e-7 units in Sponza's smoke) can be one.
+  static float segmentStep(float t0, float t1) {
+    return std::max(t1 - t0, std::numeric_limits<float>::min());
+  }
   // The scale of the shadows cast into homogeneous media, capped by a sixteenth of medium
   // `i`'s box diagonal: how far apart the nodes of a quadrature may be before they can miss
   // a shadow (the attenuation itself is left to its error estimate).

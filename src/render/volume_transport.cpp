@@ -54,10 +54,7 @@ rte::SolveSettings<float> VolumeTransport::segmentSettings(const Ray& ray, float
                                                            float jitter) const {
   rte::SolveSettings<float> s = base_;
   s.jitter = jitter;
-  // The media's own step where the scene gives none; a segment outside every medium (none
-  // is solved) would have no scale, so its length stands in.
-  const float natural = scales_.step(ray, t0, t1);
-  lengths_.apply(std::isfinite(natural) ? natural : std::max(t1 - t0, 1e-6f), s);
+  lengths_.apply(scales_.step(ray, t0, t1), s);  // where the scene gives no step
   if (equiangular_) {
     // Equiangular change of variable around the point light (Kulla & Fajardo 2012).
     const Vec3 toLight = equiangularCentre_ - ray.origin;

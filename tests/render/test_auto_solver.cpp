@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "render/render_pixel.h"
+#include "render/scene_media.h"
 #include "src/render/auto_solver.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -56,16 +57,10 @@ TEST(ConeCrossings, IgnoresTheMirrorConeAndTheOutsideOfTheInterval) {
   EXPECT_NEAR(t[0], 6.0f, 1e-4f);
 }
 
-struct Planner {
-  Scene scene;
-  MediaSet media;
-  std::unique_ptr<MediumScales> scales;
+struct Planner : test::SceneMedia {
   StepLengths lengths;
   std::unique_ptr<AutoSolver> solver;
-  explicit Planner(const std::string& text) : scene(parseScene(text, "/tmp/auto-plan.json")) {
-    std::vector<std::string> warnings;
-    media = MediaSet::build(scene.media, scene.volume.interpolation, warnings);
-    scales = std::make_unique<MediumScales>(scene.world.bounds(), media);
+  explicit Planner(const std::string& text) : SceneMedia(text) {
     const VolumeSettings& v = scene.volume;
     lengths = {v.step, v.minStep, v.maxStep, v.stepScale};
     rte::SolveSettings<float> base;

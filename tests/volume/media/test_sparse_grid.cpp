@@ -176,10 +176,27 @@ TEST(SparseGrid, TheWalkJumpsOverEmptyNodes) {
 // lower nodes on both sides of the origin, inactive and negative voxels (0), tiles of a
 // lower node (8^3), of an upper node (128^3) and of the root (4096^3), and voxels beyond
 // the index's reach of 2^27, which it leaves to the tree.
-TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
-  using openvdb::Coord;
+// A grid filled by `fill` both as OpenVDB holds it and as lvox reads it from a file, and what
+// a lookup should give: the active, non-negative value (else 0).
+struct Filled {
+  openvdb::FloatGrid::Ptr reference;
+  SparseGrid grid;
+  float expected(const openvdb::Coord& c) const {
+    float v = 0.0f;
+    return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
+  }
+};
+
+template <class Fill>
+Filled filled(const std::string& name, Fill fill) {
   openvdb::initialize();
   auto reference = openvdb::FloatGrid::create(0.0f);
+  fill(*reference);
+  return {reference, gridFrom(name, fill)};
+}
+
+TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
+  using openvdb::Coord;
   const auto fill = [](openvdb::FloatGrid& grid) {
     auto acc = grid.getAccessor();
     Rng rng(11, 12);
@@ -197,19 +214,16 @@ TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
     const int far = (1 << 27) + 100;
     acc.setValue(Coord(far, 3, -far), 1.5f);
   };
-  fill(*reference);
-  const SparseGrid g = gridFrom("kinds.vdb", fill);
+  const Filled kinds = filled("kinds.vdb", fill);
+  const SparseGrid& g = kinds.grid;
   EXPECT_FALSE(g.hasLeafTable());  // its active box spans 2^27 voxels: through the index
-  const auto expected = [&](const Coord& c) {
-    float v = 0.0f;
-    return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
-  };
+  const auto expected = [&](const Coord& c) { return kinds.expected(c); };
   const int far = (1 << 27) + 100;
   std::vector<Coord> probes = {Coord(5, 5, 5),          Coord(6, 5, 5),         Coord(66, 70, 71),
                                Coord(1100, 60, 30),     Coord(-5000, 17, 2000), Coord(far, 3, -far),
                                Coord(far + 1, 3, -far), Coord(1 << 28, 0, 0)};
   Rng rng(5, 6);
-  for (auto v = reference->tree().cbeginLeaf(); v; ++v)  // every voxel in a leaf
+  for (auto v = kinds.reference->tree().cbeginLeaf(); v; ++v)  // every voxel in a leaf
     for (auto on = v->cbeginValueOn(); on; ++on) probes.push_back(on.getCoord());
   for (int n = 0; n < 20000; ++n)  // random places, most in empty space or tiles
     probes.emplace_back(static_cast<int>(rng.uniform() * 20000.0f) - 10000,
@@ -228,8 +242,6 @@ TEST(SparseGrid, LookupsFindEveryKindOfValueOpenVdbHolds) {
 // index), places outside the active box, and stencils across leaves.
 TEST(SparseGrid, LookupsThroughTheLeafTableFindWhatOpenVdbHolds) {
   using openvdb::Coord;
-  openvdb::initialize();
-  auto reference = openvdb::FloatGrid::create(0.0f);
   const auto fill = [](openvdb::FloatGrid& grid) {
     auto acc = grid.getAccessor();
     for (int i = 0; i < 48; ++i)
@@ -244,13 +256,10 @@ TEST(SparseGrid, LookupsThroughTheLeafTableFindWhatOpenVdbHolds) {
     acc.setValue(Coord(-5, -5, -5), -2.0f);  // clamped to 0
     grid.tree().addTile(1, Coord(-64, 40, 40), 0.25f, true);
   };
-  fill(*reference);
-  const SparseGrid g = gridFrom("table.vdb", fill);
+  const Filled table = filled("table.vdb", fill);
+  const SparseGrid& g = table.grid;
   ASSERT_TRUE(g.hasLeafTable());
-  float v = 0.0f;
-  const auto expected = [&](const Coord& c) {
-    return reference->tree().probeValue(c, v) && v > 0.0f ? v : 0.0f;
-  };
+  const auto expected = [&](const Coord& c) { return table.expected(c); };
   Rng rng(7, 8);
   int nonZero = 0;
   for (int n = 0; n < 40000; ++n) {  // inside and around the active box
