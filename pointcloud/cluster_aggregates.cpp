@@ -123,11 +123,11 @@ void PointCloud::updateAggregates() {
       if (node.isLeaf()) {
         for (uint32_t s = node.surfelBegin; surfelClusters && s < node.surfelEnd; ++s) {
           const float a = surfels_.representedArea(s);
-          ss.addSurfel(surfels_.position[s], a, surfels_.normal[s], surfels_.radianceFront[s],
-                       surfels_.radianceBack[s], surfels_.enclosedSides[s]);
+          ss.addSurfel(surfels_.position(s), a, surfels_.normal(s), surfels_.radianceFront[s],
+                       surfels_.radianceBack[s], surfels_.enclosedSides(s));
           ss.cover.extend(
-              squareBounds(surfels_.position[s], surfels_.normal[s], 2.0f * std::sqrt(a)));
-          ss.diskArea += kPi * surfels_.radius[s] * surfels_.radius[s];
+              squareBounds(surfels_.position(s), surfels_.normal(s), 2.0f * std::sqrt(a)));
+          ss.diskArea += kPi * surfels_.radius(s) * surfels_.radius(s);
         }
         for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l) {
           RGB source[kShCoefficients];

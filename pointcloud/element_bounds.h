@@ -8,15 +8,15 @@
 
 namespace lvox {
 
-inline Bounds3 surfelBounds(const SurfelSet& s, size_t i) {
-  const Vec3& n = s.normal[i];
-  const float r = s.radius[i];
+inline Bounds3 diskBounds(const DiskElement& d) {
+  const Vec3& n = d.normal;
+  const float r = d.radius;
   const Vec3 e(r * std::sqrt(std::max(0.0f, 1.0f - n.x * n.x)),
                r * std::sqrt(std::max(0.0f, 1.0f - n.y * n.y)),
                r * std::sqrt(std::max(0.0f, 1.0f - n.z * n.z)));
   Bounds3 b;
-  b.lo = s.position[i] - e;
-  b.hi = s.position[i] + e;
+  b.lo = d.position - e;
+  b.hi = d.position + e;
   return b;
 }
 

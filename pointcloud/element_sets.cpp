@@ -32,6 +32,34 @@ void SurfelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(radianceBack, order);
 }
 
+CloudSurfels::CloudSurfels(SurfelSet sampled, std::vector<DiskClip>& clips)
+    : albedo(std::move(sampled.albedo)),
+      radianceFront(std::move(sampled.radianceFront)),
+      radianceBack(std::move(sampled.radianceBack)),
+      radiusScale(sampled.radiusScale) {
+  const size_t n = sampled.size();
+  disks_.assign(n + (n > 0 ? 3 : 0), DiskElement{});
+  clips.clear();
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t clipped = 0;
+    if (i < sampled.clip.size() && DiskElement::cuts(sampled.clip[i])) {
+      LVOX_CHECK(clips.size() < (size_t(1) << (32 - DiskElement::kClipShift)),
+                 "too many cut disks for the traversal layout");
+      clipped =
+          DiskElement::kClipped | static_cast<uint32_t>(clips.size() << DiskElement::kClipShift);
+      clips.push_back(sampled.clip[i]);
+    }
+    disks_[i] = {sampled.position[i], sampled.radius[i], sampled.normal[i],
+                 (sampled.enclosedSides[i] & 3u) | clipped};
+  }
+  clips.shrink_to_fit();
+}
+
+size_t CloudSurfels::memoryBytes() const {
+  return disks_.capacity() * sizeof(DiskElement) + albedo.capacity() * sizeof(RGB) +
+         radianceFront.capacity() * sizeof(RGB) + radianceBack.capacity() * sizeof(RGB);
+}
+
 RGB LvoxelSet::sourceRadiance(size_t i) const {
   const RGB st = sigmaT(i);
   const RGB ls = inScatter(i);

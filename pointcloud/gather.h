@@ -95,7 +95,7 @@ struct RadianceSink {
     if (coefficients > 1) shBasis(dir, coefficients, yhat);
   }
   void surfel(uint32_t i, bool front, const RGB& w) {
-    const SurfelSet& s = cloud.surfels();
+    const CloudSurfels& s = cloud.surfels();
     radiance += w * (front ? s.radianceFront[i] : s.radianceBack[i]);
   }
   void surfelCluster(uint32_t n, const RGB& w) {
@@ -133,7 +133,7 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     const long surfel = hitSurface ? options.lookup->nearest(hit.point, hit.normal) : -1;
     if (maxComponent(weights.transmittance) >= options.minTransmittance && surfel >= 0) {
       const auto i = static_cast<uint32_t>(surfel);
-      weights.surfel(i, hit.t, dot(cloud.surfels().normal[i], ray.dir) < 0.0f);
+      weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f);
     } else if (hitSurface) {
       weights.opaqueHit = true;
     }

@@ -21,7 +21,7 @@ std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
 void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
                                std::vector<RGB>& v, std::vector<RGB>* directional) const {
   v.resize(size());
-  const SurfelSet& s = cloud.surfels();
+  const CloudSurfels& s = cloud.surfels();
   for (size_t i = 0; i < surfels; ++i) {
     v[surfel(index(i), true)] = s.radianceFront[i];
     v[surfel(index(i), false)] = s.radianceBack[i];

@@ -22,7 +22,6 @@ struct SurfelLightQuery {
   Vec3 position;
   Vec3 normal;  // the side being lit: the surfel's normal or its negation
   RGB albedo;
-  uint32_t triangle;
 };
 
 // One occupied cell of the lvoxels' light (lvoxels of overlapping media share it).
@@ -47,7 +46,7 @@ inline constexpr size_t kDirectBlock = 256;
 template <class SurfelFn, class LvoxelFn>
 void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
                       const LvoxelFn& lvoxelInScatter, Collective& team = singleProcess()) {
-  SurfelSet& s = cloud.mutableSurfels();
+  CloudSurfels& s = cloud.mutableSurfels();
   const size_t blocks = (s.size() + kDirectBlock - 1) / kDirectBlock;
   const auto ranks = static_cast<size_t>(team.size());
   Progress::global().addWork(blocks);
@@ -60,10 +59,10 @@ void cacheDirectLight(PointCloud& cloud, const SurfelFn& surfelRadiance,
         continue;
       }
       const auto idx = static_cast<uint32_t>(i);
-      const RGB front = surfelRadiance(
-          SurfelLightQuery{idx, s.position[i], s.normal[i], s.albedo[i], s.triangle[i]});
-      const RGB back = surfelRadiance(
-          SurfelLightQuery{idx, s.position[i], -s.normal[i], s.albedo[i], s.triangle[i]});
+      const RGB front =
+          surfelRadiance(SurfelLightQuery{idx, s.position(i), s.normal(i), s.albedo[i]});
+      const RGB back =
+          surfelRadiance(SurfelLightQuery{idx, s.position(i), -s.normal(i), s.albedo[i]});
       s.radianceFront[i] = isFinite(front) ? front : RGB(0.0f);
       s.radianceBack[i] = isFinite(back) ? back : RGB(0.0f);
     }
@@ -167,7 +166,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const std::function<void(uint64_t)>& reserve = {}) {
   InterreflectionStats stats;
   if (passes <= 0) return stats;
-  SurfelSet& s = cloud.mutableSurfels();
+  CloudSurfels& s = cloud.mutableSurfels();
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
@@ -179,7 +178,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           const size_t i = row % n;
           const bool front = row < n;
           Rng rng(seed ^ 0x5f1ce5u, (static_cast<uint64_t>(front ? 0 : 1) << 40) ^ i);
-          gatherIrradianceInto(cloud, s.position[i], front ? s.normal[i] : -s.normal[i],
+          gatherIrradianceInto(cloud, s.position(i), front ? s.normal(i) : -s.normal(i),
                                surfelOptions, rng, scratch, recorder);
         } else {
           const size_t i = row - 2 * n;

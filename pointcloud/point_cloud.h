@@ -37,11 +37,11 @@ class PointCloud {
   // Builds the octree in parallel (deterministic) and the cluster aggregates.
   PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings = {});
 
-  const SurfelSet& surfels() const { return surfels_; }
+  const CloudSurfels& surfels() const { return surfels_; }
   const LvoxelSet& lvoxels() const { return lvoxels_; }
   // Mutable access is for the light caches only (positions must not move); call
   // updateAggregates() after changing radiance or in-scatter.
-  SurfelSet& mutableSurfels() { return surfels_; }
+  CloudSurfels& mutableSurfels() { return surfels_; }
   LvoxelSet& mutableLvoxels() { return lvoxels_; }
 
   const std::vector<OctreeNode>& nodes() const { return nodes_; }
@@ -63,16 +63,17 @@ class PointCloud {
   // The traversal's layout (traversal.h), built with the octree from the elements'
   // geometry, which must not change afterwards: per inner node its children's bounds as
   // SIMD-ready arrays (8 lanes for the heap, up to 16 descendants for the nearest-disk
-  // search), per node its block, and the disks and cubes packed in octree order.
+  // search), per node its block, and the disks (the surfels' own records) and cubes
+  // packed in octree order.
   const std::vector<OctreeChildren>& childBlocks() const { return childBlocks_; }
   const std::vector<WideChildren>& wideBlocks() const { return wideBlocks_; }
   const std::vector<TraversalNode>& traversalNodes() const { return traversalNodes_; }
-  const std::vector<DiskElement>& disks() const { return disks_; }
+  const std::vector<DiskElement>& disks() const { return surfels_.disks(); }
   // A surfel's border cut (one that removes nothing where it has none): only the disks that
-  // are cut keep one, so surfels().clip is empty once the cloud is built.
+  // are cut keep one.
   const DiskClip& diskClip(uint32_t surfel) const {
     static const DiskClip kNone{};
-    const uint32_t flags = disks_[surfel].flags;
+    const uint32_t flags = surfels_.disks()[surfel].flags;
     return (flags & DiskElement::kClipped) ? clips_[flags >> DiskElement::kClipShift] : kNone;
   }
   const std::vector<CubeElement>& cubes() const { return cubes_; }
@@ -98,12 +99,12 @@ class PointCloud {
   }
 
  private:
-  void build(const OctreeSettings& settings);
+  void build(SurfelSet surfels, const OctreeSettings& settings);
   void computeBounds();
   void buildTraversalLayout();
   void assignLvoxelClusters();
 
-  SurfelSet surfels_;
+  CloudSurfels surfels_;
   LvoxelSet lvoxels_;
   bool keepSurfelClusters_ = true;
   std::vector<OctreeNode> nodes_;
@@ -117,7 +118,6 @@ class PointCloud {
   std::vector<OctreeChildren> childBlocks_;
   std::vector<WideChildren> wideBlocks_;
   std::vector<TraversalNode> traversalNodes_;
-  std::vector<DiskElement> disks_;
   std::vector<DiskClip> clips_;  // the cuts of the disks that have one
   std::vector<CubeElement> cubes_;
 };

@@ -150,10 +150,8 @@ uint32_t buildWideBlocks(const std::vector<OctreeNode>& nodes, uint32_t n,
 }  // namespace
 
 PointCloud::PointCloud(SurfelSet surfels, LvoxelSet lvoxels, const OctreeSettings& settings)
-    : surfels_(std::move(surfels)),
-      lvoxels_(std::move(lvoxels)),
-      keepSurfelClusters_(settings.surfelClusters) {
-  build(settings);
+    : lvoxels_(std::move(lvoxels)), keepSurfelClusters_(settings.surfelClusters) {
+  build(std::move(surfels), settings);
   computeBounds();
   assignLvoxelClusters();
   // The aggregates grow the node bounds to hold the surfel cluster covers, which depend on
@@ -194,14 +192,14 @@ bool PointCloud::traversalLayoutMatchesNodes() const {
   return true;
 }
 
-void PointCloud::build(const OctreeSettings& settings) {
-  const auto ns = static_cast<uint32_t>(surfels_.size());
+void PointCloud::build(SurfelSet surfels, const OctreeSettings& settings) {
+  const auto ns = static_cast<uint32_t>(surfels.size());
   const auto n = ns + static_cast<uint32_t>(lvoxels_.size());
   if (n == 0) return;
-  const MortonFrame frame = mortonFrame(surfels_, lvoxels_);
+  const MortonFrame frame = mortonFrame(surfels, lvoxels_);
   std::vector<MortonKey> keys(n);
   tbb::parallel_for(uint32_t(0), n, [&](uint32_t e) {
-    keys[e] = {frame.code(e < ns ? surfels_.position[e] : lvoxels_.position[e - ns]), e};
+    keys[e] = {frame.code(e < ns ? surfels.position[e] : lvoxels_.position[e - ns]), e};
   });
   tbb::parallel_sort(keys.begin(), keys.end());
 
@@ -218,7 +216,8 @@ void PointCloud::build(const OctreeSettings& settings) {
       lvoxelOrder.push_back(keys[k].element - ns);
     surfelsBefore[k + 1] = surfelsBefore[k] + (isSurfel ? 1 : 0);
   }
-  surfels_.permute(surfelOrder);
+  surfels.permute(surfelOrder);
+  surfels_ = CloudSurfels(std::move(surfels), clips_);
   lvoxels_.permute(lvoxelOrder);
 
   const uint32_t leafSize = std::max(1u, settings.leafSize);
@@ -283,7 +282,7 @@ void PointCloud::computeBounds() {
       Bounds3 b;
       if (node.isLeaf()) {
         for (uint32_t s = node.surfelBegin; s < node.surfelEnd; ++s)
-          b.extend(surfelBounds(surfels_, s));
+          b.extend(diskBounds(surfels_.disks()[s]));
         for (uint32_t l = node.lvoxelBegin; l < node.lvoxelEnd; ++l)
           b.extend(lvoxelBounds(lvoxels_, l));
       } else {
@@ -329,23 +328,6 @@ void PointCloud::buildTraversalLayout() {
   });
   wideBlocks_.clear();
   if (!nodes_[0].isLeaf()) buildWideBlocks(nodes_, 0, wideBlocks_);
-  // Three empty records past the end: 4-wide tests may read up to 3 disks past a leaf.
-  disks_.assign(surfels_.size() + (surfels_.size() > 0 ? 3 : 0), DiskElement{});
-  clips_.clear();
-  for (size_t i = 0; i < surfels_.size(); ++i) {
-    uint32_t clipped = 0;
-    if (i < surfels_.clip.size() && DiskElement::cuts(surfels_.clip[i])) {
-      LVOX_CHECK(clips_.size() < (size_t(1) << (32 - DiskElement::kClipShift)),
-                 "too many cut disks for the traversal layout");
-      clipped =
-          DiskElement::kClipped | static_cast<uint32_t>(clips_.size() << DiskElement::kClipShift);
-      clips_.push_back(surfels_.clip[i]);
-    }
-    disks_[i] = {surfels_.position[i], surfels_.radius[i], surfels_.normal[i],
-                 (surfels_.enclosedSides[i] & 3u) | clipped};
-  }
-  clips_.shrink_to_fit();
-  std::vector<DiskClip>().swap(surfels_.clip);  // the layout holds the cuts that cut
   cubes_.resize(lvoxels_.size());
   for (size_t i = 0; i < lvoxels_.size(); ++i)
     cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
@@ -372,8 +354,8 @@ PointCloudMemory PointCloud::memory() const {
 
 size_t PointCloud::traversalBytes() const {
   return childBlocks_.size() * sizeof(OctreeChildren) + wideBlocks_.size() * sizeof(WideChildren) +
-         traversalNodes_.size() * sizeof(TraversalNode) + disks_.size() * sizeof(DiskElement) +
-         clips_.size() * sizeof(DiskClip) + cubes_.size() * sizeof(CubeElement);
+         traversalNodes_.size() * sizeof(TraversalNode) + clips_.size() * sizeof(DiskClip) +
+         cubes_.size() * sizeof(CubeElement);
 }
 
 }  // namespace lvox

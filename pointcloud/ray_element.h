@@ -29,16 +29,18 @@ inline bool intersectDisk(const Ray& ray, const Vec3& c, const Vec3& n, float r,
 }
 
 // A surfel's disk as the traversal tests it: 32 bytes per surfel in octree order, so a
-// leaf's disks are adjacent in memory (the SurfelSet keeps them in five arrays). The cut
-// is read from a side array, and only for disks that have one.
+// leaf's disks are adjacent in memory. In a built cloud it is the surfel's only copy of
+// its geometry (CloudSurfels). The cut is read from a side array, and only for disks that
+// have one.
 struct DiskElement {
   // flags: bits 0-1 are the enclosed sides, bit 2 says the disk is cut, and bits 3-31 are
   // then the index of its cut in PointCloud's list of them.
   static constexpr uint32_t kClipped = 4;
   static constexpr uint32_t kClipShift = 3;
-  Vec3 position;
+  // Zeros by default: the padding records past the last leaf are loaded by 4-wide tests.
+  Vec3 position = Vec3(0.0f);
   float radius = 0.0f;
-  Vec3 normal;
+  Vec3 normal = Vec3(0.0f);
   uint32_t flags = 0;
 
   // A cut with a zero normal and offset >= 0 never removes anything (dot(d, 0) > offset

@@ -13,20 +13,19 @@ uint64_t SurfelLookup::cellKey(long x, long y, long z) const {
 
 long SurfelLookup::cellOf(float v) const { return static_cast<long>(std::floor(v / cell_)); }
 
-SurfelLookup::SurfelLookup(const SurfelSet& surfels, float cell)
+SurfelLookup::SurfelLookup(const CloudSurfels& surfels, float cell)
     : surfels_(&surfels), cell_(cell > 0.0f ? cell : 1.0f) {
   const size_t n = surfels.size();
   std::vector<uint64_t> key(n);
   for (size_t i = 0; i < n; ++i) {
-    const Vec3& p = surfels.position[i];
+    const Vec3& p = surfels.position(i);
     key[i] = cellKey(cellOf(p.x), cellOf(p.y), cellOf(p.z));
   }
   order_.resize(n);
   for (size_t i = 0; i < n; ++i) order_[i] = static_cast<uint32_t>(i);
   // By cell, and by index within a cell (the search's tie-breaking order).
-  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
-    return key[a] != key[b] ? key[a] < key[b] : a < b;
-  });
+  std::sort(order_.begin(), order_.end(),
+            [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
   for (size_t k = 0; k < n; ++k) {
     const uint64_t cellKeyK = key[order_[k]];
     if (keys_.empty() || keys_.back() != cellKeyK) {
@@ -73,7 +72,7 @@ size_t SurfelLookup::memoryBytes() const {
 
 long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
   if (!surfels_ || slots_.empty()) return -1;
-  const SurfelSet& s = *surfels_;
+  const CloudSurfels& s = *surfels_;
   const long cx = cellOf(p.x), cy = cellOf(p.y), cz = cellOf(p.z);
   float bestAligned = kInf, bestAny = kInf;
   long aligned = -1, any = -1;
@@ -84,16 +83,16 @@ long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
         if (c == kEmptySlot) continue;
         for (uint32_t k = cellBegin_[c]; k < cellBegin_[c + 1]; ++k) {
           const uint32_t i = order_[k];
-          const Vec3 d = s.position[i] - p;
+          const Vec3 d = s.position(i) - p;
           // Distance off the surfel's plane counts 4x: a parallel surface close by (the
           // other face of a thin slab) must not win over this surface's own surfels.
-          const float off = dot(d, s.normal[i]);
+          const float off = dot(d, s.normal(i));
           const float d2 = dot(d, d) + 3.0f * off * off;
           if (d2 < bestAny) {
             bestAny = d2;
             any = i;
           }
-          if (d2 < bestAligned && std::abs(dot(s.normal[i], n)) >= 0.5f) {
+          if (d2 < bestAligned && std::abs(dot(s.normal(i), n)) >= 0.5f) {
             bestAligned = d2;
             aligned = i;
           }

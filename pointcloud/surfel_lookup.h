@@ -16,7 +16,7 @@ namespace lvox {
 class SurfelLookup {
  public:
   SurfelLookup() = default;
-  SurfelLookup(const SurfelSet& surfels, float cell);
+  SurfelLookup(const CloudSurfels& surfels, float cell);
 
   // The nearest surfel to p whose plane is within 60 degrees of the surface normal n
   // (either side), else the nearest at all; -1 when none is within two cells.
@@ -32,7 +32,7 @@ class SurfelLookup {
   uint32_t findCell(uint64_t key) const;
   static size_t slotOf(uint64_t key, size_t mask);
 
-  const SurfelSet* surfels_ = nullptr;
+  const CloudSurfels* surfels_ = nullptr;
   float cell_ = 1.0f;
   std::vector<uint32_t> order_;      // surfel indices grouped by cell, ascending in a cell
   std::vector<uint64_t> keys_;       // occupied cells, ascending

@@ -61,4 +61,41 @@ struct SurfelSet {
   void permute(const std::vector<uint32_t>& order);
 };
 
+// The surfels of a built cloud (PointCloud::surfels()). Each one's geometry is held once,
+// in the record the traversal tests (DiskElement: position, radius, normal, the enclosed
+// sides and its cut's index, 32 bytes), and read from there by everything else; beside it
+// what the surfel carries: 68 bytes in all. (Issue 13: a second copy of the geometry cost
+// 28 bytes per surfel.)
+class CloudSurfels {
+ public:
+  CloudSurfels() = default;
+  // Takes the sampled set, in its final order. The cuts that cut go to `clips`, and each
+  // cut disk's record holds its index there.
+  CloudSurfels(SurfelSet sampled, std::vector<DiskClip>& clips);
+
+  size_t size() const { return albedo.size(); }
+  const Vec3& position(size_t i) const { return disks_[i].position; }
+  const Vec3& normal(size_t i) const { return disks_[i].normal; }
+  float radius(size_t i) const { return disks_[i].radius; }
+  uint8_t enclosedSides(size_t i) const { return static_cast<uint8_t>(disks_[i].flags & 3u); }
+  float representedArea(size_t i) const {
+    return kPi * radius(i) * radius(i) / (radiusScale * radiusScale);
+  }
+  // The records, with three empty ones past the end: 4-wide tests may read up to three
+  // disks past a leaf.
+  const std::vector<DiskElement>& disks() const { return disks_; }
+  static constexpr size_t bytesPerElement() { return sizeof(DiskElement) + 3 * sizeof(RGB); }
+  size_t memoryBytes() const;
+
+  // As in SurfelSet; the light caches write the radiance. (The source triangle is not
+  // kept: the sampler read the material through it, nothing after the build does.)
+  std::vector<RGB> albedo;
+  std::vector<RGB> radianceFront;
+  std::vector<RGB> radianceBack;
+  float radiusScale = 1.0f;
+
+ private:
+  std::vector<DiskElement> disks_;
+};
+
 }  // namespace lvox

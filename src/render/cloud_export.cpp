@@ -110,9 +110,9 @@ void ExportedCloud::add(CloudPointKind k, const Vec3& p, const Vec3& n, float r,
 
 ExportedCloud exportCloud(const PointCloud& cloud) {
   ExportedCloud out;
-  const SurfelSet& s = cloud.surfels();
+  const CloudSurfels& s = cloud.surfels();
   for (size_t i = 0; i < s.size(); ++i)
-    out.add(CloudPointKind::kSurfel, s.position[i], s.normal[i], s.radius[i], s.radianceFront[i],
+    out.add(CloudPointKind::kSurfel, s.position(i), s.normal(i), s.radius(i), s.radianceFront[i],
             s.radianceBack[i], 0.0f);
   const LvoxelSet& l = cloud.lvoxels();
   for (size_t i = 0; i < l.size(); ++i) {

@@ -197,7 +197,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         hit.shading = q.normal;
         Rng rng(ctx.settings.seed ^ 0x5eedu,
                 (static_cast<uint64_t>(q.index) << 1) |
-                    (dot(q.normal, cloud.surfels().normal[q.index]) < 0));
+                    (dot(q.normal, cloud.surfels().normal(q.index)) < 0));
         rte::SolveCounts& local = perThread.local();
         auto throughMedia = [&](const Ray& shadow) {
           return volume.transmittance(shadow, local, cache.reducedShadows);
@@ -227,7 +227,7 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["octree"] = mem.octreeBytes;
   report.memory["lvoxel_light"] = cloud.lvoxels().light.memoryBytes();
   // Without their border cuts: the traversal layout keeps those of the disks that are cut.
-  report.memory["bytes_per_surfel"] = SurfelSet::bytesPerElement() - sizeof(DiskClip);
+  report.memory["bytes_per_surfel"] = CloudSurfels::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = cloud.bytesPerNode();
   const uint64_t lookupBytes = cache.lookup ? cache.lookup->memoryBytes() : 0;

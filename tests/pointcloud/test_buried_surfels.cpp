@@ -193,14 +193,15 @@ TEST(GatherVisibility, NearestSurfelBelongsToTheSurfaceHit) {
   // get a bottom surfel (normal -y), never one of the top face just above it.
   TriangleMesh mesh;
   test::addBox(mesh, Vec3(0, 0, 0), Vec3(2, 0.05f, 2), 0);
-  const SurfelSet s = sampleSurfelsUniform(mesh, {Material{}}, {0.2f, 1.15f, 2});
+  const PointCloud pc(sampleSurfelsUniform(mesh, {Material{}}, {0.2f, 1.15f, 2}), LvoxelSet{});
+  const CloudSurfels& s = pc.surfels();
   const SurfelLookup lookup(s, 0.2f);
   Rng rng(9, 9);
   for (int k = 0; k < 200; ++k) {
     const Vec3 p(0.1f + 1.8f * rng.uniform(), 0.0f, 0.1f + 1.8f * rng.uniform());
     const long i = lookup.nearest(p, Vec3(0, -1, 0));
     ASSERT_GE(i, 0);
-    ASSERT_NEAR(s.position[static_cast<size_t>(i)].y, 0.0f, 1e-5f) << p;
+    ASSERT_NEAR(s.position(static_cast<size_t>(i)).y, 0.0f, 1e-5f) << p;
   }
   EXPECT_EQ(SurfelLookup(s, 0.2f).nearest(Vec3(50, 50, 50), Vec3(0, 1, 0)), -1);
 }

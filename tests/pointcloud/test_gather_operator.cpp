@@ -80,7 +80,7 @@ TEST(GatherOperator, InterreflectionReachesTheRadiosityOfAClosedBox) {
   GatherOptions o;
   o.samples = 4;
   const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, 24, 5);
-  const SurfelSet& s = pc.surfels();
+  const CloudSurfels& s = pc.surfels();
   float worst = 0.0f;
   size_t outerLit = 0;
   for (size_t i = 0; i < s.size(); ++i) {
@@ -208,9 +208,9 @@ TEST(GatherOperator, ReservesEveryBlockItStoresAndStopsWhenRefused) {
   const size_t rows = 3000;  // six blocks
   auto record = [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
     Rng rng(3, row);
-    const SurfelSet& s = pc.surfels();
+    const CloudSurfels& s = pc.surfels();
     const size_t i = row % s.size();
-    gatherIrradianceInto(pc, s.position[i], s.normal[i], o, rng, scratch, rec);
+    gatherIrradianceInto(pc, s.position(i), s.normal(i), o, rng, scratch, rec);
   };
   std::atomic<uint64_t> reserved{0};
   std::atomic<int> calls{0};

@@ -58,7 +58,7 @@ TEST(Octree, NodesPartitionElementsAndBoundsContainThem) {
         EXPECT_EQ(n.surfelEnd - n.surfelBegin, n.elementCount());
       }
       for (uint32_t s = n.surfelBegin; s < n.surfelEnd; ++s) {
-        const Bounds3 b = surfelBounds(pc.surfels(), s);
+        const Bounds3 b = diskBounds(pc.disks()[s]);
         ASSERT_TRUE(n.bounds.contains(b.lo) && n.bounds.contains(b.hi));
       }
       continue;
@@ -76,9 +76,11 @@ TEST(Octree, NodesPartitionElementsAndBoundsContainThem) {
   }
   EXPECT_EQ(leafElements, 5000u);
   const PointCloudMemory m = pc.memory();
-  // The border cuts move into the traversal layout, only for the disks that are cut.
-  EXPECT_TRUE(pc.surfels().clip.empty());
-  EXPECT_EQ(m.surfelBytes, 3000u * (SurfelSet::bytesPerElement() - sizeof(DiskClip)));
+  // A surfel's geometry is held once, in its disk record (three empty ones pad the end);
+  // the border cuts are in the traversal layout, only for the disks that are cut.
+  EXPECT_EQ(CloudSurfels::bytesPerElement(), 68u);
+  EXPECT_EQ(m.surfelBytes, 3003u * sizeof(DiskElement) +
+                               3000u * (CloudSurfels::bytesPerElement() - sizeof(DiskElement)));
   EXPECT_EQ(m.lvoxelBytes, 2000u * LvoxelSet::bytesPerElement());
   EXPECT_GE(m.octreeBytes, nodes.size() * pc.bytesPerNode());
 }
@@ -96,7 +98,7 @@ TEST(Octree, BuildIsDeterministicAcrossThreadCounts) {
       ASSERT_EQ(a.surfelClusters()[i].power[k], b.surfelClusters()[i].power[k]);
   }
   for (size_t i = 0; i < a.surfels().size(); ++i)
-    ASSERT_EQ(a.surfels().position[i], b.surfels().position[i]);
+    ASSERT_EQ(a.surfels().position(i), b.surfels().position(i));
 }
 
 struct Visit {
@@ -129,7 +131,7 @@ std::vector<Visit> bruteForce(const PointCloud& pc, const Ray& ray) {
     bool front;
     Ray r = ray;
     r.tmax = tSurfel;
-    if (intersectDisk(r, pc.surfels().position[i], pc.surfels().normal[i], pc.surfels().radius[i],
+    if (intersectDisk(r, pc.surfels().position(i), pc.surfels().normal(i), pc.surfels().radius(i),
                       pc.diskClip(i), t, front)) {
       tSurfel = t;
       nearest = i;

@@ -62,7 +62,7 @@ TEST(SurfelCluster, AFlatClusterLitOnOneSideIsExactFromBothSides) {
   const PointCloud pc(std::move(s), LvoxelSet{}, one), closed(std::move(enclosedBack), {}, one);
   ASSERT_EQ(pc.nodes().size(), 1u);
   const SurfelCluster &c = pc.surfelClusters()[0], &cc = closed.surfelClusters()[0];
-  const Vec3 front = dot(pc.surfels().normal[0], n) > 0.0f ? n : -n;
+  const Vec3 front = dot(pc.surfels().normal(0), n) > 0.0f ? n : -n;
   for (const Vec3& d : sphereDirections(200)) {
     const float cosine = dot(-d, front);  // the viewer is on the front side when > 0
     if (std::abs(cosine) < 0.02f) continue;

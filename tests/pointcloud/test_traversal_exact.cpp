@@ -168,15 +168,15 @@ TEST(TraversalExact, LatticeGathersMatchTheHeapTraversal) {
   const test::BoxMedium fog(Vec3(1.1f, 0.1f, 0.2f), Vec3(1.7f, 0.7f, 0.6f), RGB(0.5f), RGB(1.0f));
   for (const bool withFog : {false, true}) {
     const PointCloud pc(s, withFog ? sampleLvoxels(fog, {0.05f}) : LvoxelSet{});
-    const SurfelSet& cs = pc.surfels();
+    const CloudSurfels& cs = pc.surfels();
     Rng rng(5, withFog);
     TraversalScratch fast, ref;
     Counts n;
     for (size_t k = 0; k < 3000; ++k) {
       const size_t i = k * 7919 % cs.size();
-      const Vec3 normal = rng.uniform() < 0.5f ? cs.normal[i] : -cs.normal[i];
+      const Vec3 normal = rng.uniform() < 0.5f ? cs.normal(i) : -cs.normal(i);
       const Vec3 d = Frame(normal).toWorld(cosineHemisphere(rng.uniform(), rng.uniform()));
-      const Ray ray{cs.position[i], d, 0.25f * spacing, kInf};
+      const Ray ray{cs.position(i), d, 0.25f * spacing, kInf};
       for (const TraversalOptions& o : kOptions)
         ASSERT_TRUE(sameVisits(pc, ray, o, -1, fast, ref, n)) << "fog " << withFog;
     }

@@ -51,13 +51,13 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
 
 inline void pushLeafElements(const PointCloud& pc, const OctreeNode& node, Ray& ray, bool surfels,
                              TraversalScratch& s) {
-  const SurfelSet& sf = pc.surfels();
+  const CloudSurfels& sf = pc.surfels();
   for (uint32_t i = node.surfelBegin; surfels && i < node.surfelEnd; ++i) {
     ++s.stats.elementsTested;
     float t;
     bool front;
-    if (intersectDisk(ray, sf.position[i], sf.normal[i], sf.radius[i], pc.diskClip(i), t, front) &&
-        !(sf.enclosedSides[i] & (front ? 1u : 2u))) {
+    if (intersectDisk(ray, sf.position(i), sf.normal(i), sf.radius(i), pc.diskClip(i), t, front) &&
+        !(sf.enclosedSides(i) & (front ? 1u : 2u))) {
       pushEntry(s.heap, {t, t, t, i, HitKind::Surfel, front});
       ray.tmax = t;  // opaque: everything behind is hidden
     }

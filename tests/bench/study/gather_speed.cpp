@@ -95,21 +95,21 @@ struct Timing {
 
 // 4 stratified cosine-weighted rays (2 x 2 strata, as gatherIrradianceInto with 4
 // samples) from the open side of evenly spread surfels.
-std::vector<Ray> surfelGatherRays(const SurfelSet& s, size_t count, float offset) {
+std::vector<Ray> surfelGatherRays(const CloudSurfels& s, size_t count, float offset) {
   std::vector<Ray> rays;
   if (s.size() == 0) return rays;
   const size_t gathers = std::max<size_t>(1, count / 4);
   for (size_t g = 0; g < gathers && rays.size() < count; ++g) {
     const size_t i = g * s.size() / gathers;
-    if (s.enclosedSides[i] == 3) continue;
-    const Vec3 n = (s.enclosedSides[i] & 1u) ? -s.normal[i] : s.normal[i];
+    if (s.enclosedSides(i) == 3) continue;
+    const Vec3 n = (s.enclosedSides(i) & 1u) ? -s.normal(i) : s.normal(i);
     const Frame frame(n);
     Rng rng(11, i);
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c) {
         const float u1 = (static_cast<float>(r) + rng.uniform()) * 0.5f;
         const float u2 = (static_cast<float>(c) + rng.uniform()) * 0.5f;
-        rays.push_back(Ray{s.position[i], frame.toWorld(cosineHemisphere(u1, u2)), offset, kInf});
+        rays.push_back(Ray{s.position(i), frame.toWorld(cosineHemisphere(u1, u2)), offset, kInf});
       }
   }
   return rays;

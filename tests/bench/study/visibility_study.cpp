@@ -62,7 +62,7 @@ int run(const char* scenePath, int targetSurfels, float offset) {
         return surfaceDirect(ctx, at, q.albedo, rng, unattenuated, rays);
       },
       [](const LvoxelLightQuery&) { return RGB(0.0f); });
-  const SurfelSet& s = cloud.surfels();
+  const CloudSurfels& s = cloud.surfels();
 
   double count[kClasses] = {}, cloudLight[kClasses] = {}, trueLight[kClasses] = {};
   double passedThrough[3] = {};
