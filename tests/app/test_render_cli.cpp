@@ -506,7 +506,8 @@ TEST(Scenes, RealSponzaRendersWhenPresent) {
 }
 
 TEST(Scenes, OpenTownRendersWhenPresent) {
-  for (const char* asset : {"bunny/bun_zipper.obj", "vdb/smoke.vdb", "vdb/wdas_cloud_sixteenth.vdb"})
+  for (const char* asset :
+       {"bunny/bun_zipper.obj", "vdb/smoke.vdb", "vdb/wdas_cloud_sixteenth.vdb"})
     if (!fs::exists(std::string(LVOX_SHARED_DIR) + "/assets/" + asset))
       GTEST_SKIP() << "shared asset absent: " << asset;
   expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/open_town.json", "direct");
