@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "pointcloud/lvoxels.h"
-#include "pointcloud/surfels.h"
+#include "pointcloud/ray_element.h"
 
 namespace lvox {
 
