@@ -17,6 +17,21 @@
 
 namespace lvox {
 
+// The light a traced gather hit reflects straight from the point, spot and directional
+// lights, evaluated at the hit itself (the renderer's shadow rays). A cloud whose surfels
+// leave these lights out caches only the smooth rest of their light: a delta light's
+// shadow edges and its dependence on the surface's orientation are sharper than the
+// surfel spacing, and the nearest surfel to a hit stood for them several per cent too
+// dark on Sponza (docs/pcb.md). One virtual call per gather ray that hits a surface.
+class SurfaceHitLight {
+ public:
+  virtual ~SurfaceHitLight() = default;
+  // Radiance leaving a traced hit towards the ray's origin (hit.normal faces it).
+  virtual RGB reflected(const SurfaceHit& hit) const = 0;
+  // The same for a surfel's side: at p, facing n, of albedo `albedo` (cloud exports).
+  virtual RGB reflected(const Vec3& p, const Vec3& n, const RGB& albedo) const = 0;
+};
+
 struct GatherOptions {
   int samples = 128;                 // rays per gather, stratified
   float maxSolidAngle = 0.0f;        // cluster criterion (TraversalOptions); 0 = exact
@@ -30,6 +45,9 @@ struct GatherOptions {
   // the first surfel disk the traversal meets (Gibson).
   const RayTracer* tracer = nullptr;
   const SurfelLookup* lookup = nullptr;
+  // With traced visibility: the delta lights' light at each hit, which the surfels then
+  // do not carry (null: the surfels carry every light).
+  const SurfaceHitLight* hitLight = nullptr;
 };
 
 // Follows one gather ray through the elements the traversal visits and hands the sink
@@ -40,6 +58,7 @@ struct GatherOptions {
 // Sink interface:
 //   beginRay(dir) (each ray's direction, before its weights: lvoxels in anisotropic
 //   media and surfel clusters send their light by direction), surfel(i, front, w),
+//   surfaceLight(radiance) (weighted light from GatherOptions::hitLight),
 //   surfelCluster(node, w) (w: the coverage's share; the cluster's radiance along the ray
 //   is the sink's to evaluate), lvoxel(i, w), lvoxelCluster(cluster, w), addBackground(w)
 template <class Sink>
@@ -109,6 +128,7 @@ struct RadianceSink {
     radiance += w * shDot(cloud.lvoxelClusterCoefficients(n), yhat, coefficients);
   }
   void addBackground(const RGB& w) { radiance += w * background; }
+  void surfaceLight(const RGB& weighted) { radiance += weighted; }
 };
 
 // One gather ray, weighted by `scale`, into the sink; the background is added behind
@@ -130,12 +150,17 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     traced.tmax = hitSurface ? hit.t : kInf;
     traverse(cloud, traced, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle, false}, scratch);
-    const long surfel = hitSurface ? options.lookup->nearest(hit.point, hit.normal) : -1;
-    if (maxComponent(weights.transmittance) >= options.minTransmittance && surfel >= 0) {
-      const auto i = static_cast<uint32_t>(surfel);
-      weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f);
-    } else if (hitSurface) {
+    if (hitSurface) {
       weights.opaqueHit = true;
+      if (maxComponent(weights.transmittance) >= options.minTransmittance) {
+        if (options.hitLight)
+          sink.surfaceLight(weights.transmittance * scale * options.hitLight->reflected(hit));
+        const long surfel = options.lookup->nearest(hit.point, hit.normal);
+        if (surfel >= 0) {
+          const auto i = static_cast<uint32_t>(surfel);
+          weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f);
+        }
+      }
     }
   }
   if (!weights.opaqueHit && maxComponent(weights.transmittance) >= options.minTransmittance)

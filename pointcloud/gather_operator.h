@@ -72,6 +72,11 @@ struct GatherRecorder {
   std::vector<GatherEntry>& entries;
   std::vector<Vec3>* rays = nullptr;  // directional operators: the row's ray directions
   Vec3 direction{0, 0, 1};
+  // The light the row's hits reflect from the delta lights (GatherOptions::hitLight) does
+  // not change from pass to pass: it is no column but the row's constant, projected as the
+  // operator projects its rays (columns.coefficients values). The caller owns it; null
+  // when the gathers have no hit light.
+  RGB* constant = nullptr;
 
   void beginRay(const Vec3& dir) {
     direction = dir;
@@ -86,6 +91,16 @@ struct GatherRecorder {
   void lvoxel(uint32_t i, const RGB& w) { add(columns.lvoxel(i), w); }
   void lvoxelCluster(uint32_t n, const RGB& w) { add(columns.lvoxelCluster(n), w); }
   void addBackground(const RGB& w) { add(columns.background(), w); }
+  void surfaceLight(const RGB& weighted) {
+    LVOX_CHECK(constant, "a gather with a hit light records into a row without a constant");
+    if (!columns.directional()) {
+      constant[0] += weighted;
+      return;
+    }
+    float yhat[kShCoefficients];
+    shBasis(direction, columns.coefficients, yhat);
+    for (int k = 0; k < columns.coefficients; ++k) constant[k] += weighted * yhat[k];
+  }
   void add(uint32_t column, const RGB& w) {
     LVOX_DCHECK(column < columns.size(), "gather column out of range");
     const uint32_t ray = rays ? static_cast<uint32_t>(rays->size()) - 1 : 0;

@@ -170,16 +170,27 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
+  // What the rows' hits reflect from the delta lights (GatherOptions::hitLight) is the
+  // same every pass: each surfel side's share joins its direct radiance (it is light that
+  // bounced once, off the hit), each lvoxel's is added to its gathered light.
+  const bool hitLight = surfelOptions.hitLight || lvoxelOptions.hitLight;
+  const auto count = static_cast<size_t>(GatherColumns(cloud).coefficients);
+  std::vector<RGB> directFront(n, RGB(0.0f)), directBack(n, RGB(0.0f));
+  std::vector<RGB> lvoxelConstant(hitLight ? m * count : 0, RGB(0.0f));
   const auto traceStart = std::chrono::steady_clock::now();
   const GatherOperator gathers(
       cloud, 2 * n + m,
       [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
+        RGB constant[kShCoefficients];
+        std::fill(constant, constant + kShCoefficients, RGB(0.0f));
+        if (hitLight) recorder.constant = constant;
         if (row < 2 * n) {
           const size_t i = row % n;
           const bool front = row < n;
           Rng rng(seed ^ 0x5f1ce5u, (static_cast<uint64_t>(front ? 0 : 1) << 40) ^ i);
           gatherIrradianceInto(cloud, s.position(i), front ? s.normal(i) : -s.normal(i),
                                surfelOptions, rng, scratch, recorder);
+          (front ? directFront : directBack)[i] = s.albedo[i] * nonNegative(constant[0]) * kInvPi;
         } else {
           const size_t i = row - 2 * n;
           Rng rng(seed, i);
@@ -188,9 +199,19 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           // keeps the light's mean, or its spherical harmonics in anisotropic media.
           gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
                               scratch, recorder);
+          if (hitLight) std::copy(constant, constant + count, &lvoxelConstant[i * count]);
         }
       },
       team.rank(), team.size(), reserve);
+  if (hitLight && team.size() > 1) {  // each rank traced its own rows' share
+    team.sum(floatsOf(directFront));
+    team.sum(floatsOf(directBack));
+    team.sum(floatsOf(lvoxelConstant));
+  }
+  for (size_t i = 0; i < n; ++i) {
+    directFront[i] += s.radianceFront[i];
+    directBack[i] += s.radianceBack[i];
+  }
   stats.traceSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - traceStart).count();
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
@@ -198,10 +219,10 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   stats.entries = gathers.entries();
   stats.operatorBytes = gathers.memoryBytes();
 
-  const std::vector<RGB> directFront = s.radianceFront, directBack = s.radianceBack;
   // Lvoxel rows gather coefficients() values each: the spherical-harmonic coefficients of
   // their incident light where lvoxels scatter anisotropically, else its mean.
-  const auto count = static_cast<size_t>(gathers.coefficients());
+  LVOX_CHECK(count == static_cast<size_t>(gathers.coefficients()),
+             "the operator's coefficients differ from its columns'");
   GatherValues values;
   std::vector<RGB> gathered, lvoxelGathered(m * count);
   // What each pass changed, summed per block of rows, then in block order: deterministic.
@@ -220,7 +241,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   // higher harmonics), so its mean is clamped at zero as every per-ray radiance is.
   auto updateRow = [&](size_t row, const RGB* g) {
     const size_t b = row / GatherOperator::kRowsPerBlock;
-    const RGB mean = nonNegative(g[0]);
+    const RGB* c = row >= 2 * n && hitLight ? &lvoxelConstant[(row - 2 * n) * count] : nullptr;
+    const RGB mean = nonNegative(c ? g[0] + c[0] : g[0]);
     if (row < n)
       updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
                  directFront[row] + s.albedo[row] * mean * kInvPi);
@@ -229,7 +251,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                  directBack[row - n] + s.albedo[row - n] * mean * kInvPi);
     else {
       RGB* out = &lvoxelGathered[(row - 2 * n) * count];
-      std::copy(g, g + count, out);
+      for (size_t k = 0; k < count; ++k) out[k] = c ? g[k] + c[k] : g[k];
       out[0] = mean;
     }
   };

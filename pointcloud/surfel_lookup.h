@@ -19,7 +19,8 @@ class SurfelLookup {
   SurfelLookup(const CloudSurfels& surfels, float cell);
 
   // The nearest surfel to p whose plane is within 60 degrees of the surface normal n
-  // (either side), else the nearest at all; -1 when none is within two cells.
+  // (either side), else the nearest at all; -1 when none is within two cells. n faces the
+  // side the point is seen from: distance behind the surface counts most.
   long nearest(const Vec3& p, const Vec3& n) const;
   bool empty() const { return order_.empty(); }
   size_t memoryBytes() const;

@@ -108,12 +108,17 @@ void ExportedCloud::add(CloudPointKind k, const Vec3& p, const Vec3& n, float r,
   sigmaT.push_back(extinction);
 }
 
-ExportedCloud exportCloud(const PointCloud& cloud) {
+ExportedCloud exportCloud(const PointCloud& cloud, const SurfaceHitLight* deltaLight) {
   ExportedCloud out;
   const CloudSurfels& s = cloud.surfels();
-  for (size_t i = 0; i < s.size(); ++i)
-    out.add(CloudPointKind::kSurfel, s.position(i), s.normal(i), s.radius(i), s.radianceFront[i],
-            s.radianceBack[i], 0.0f);
+  for (size_t i = 0; i < s.size(); ++i) {
+    RGB front = s.radianceFront[i], back = s.radianceBack[i];
+    if (deltaLight) {
+      front += deltaLight->reflected(s.position(i), s.normal(i), s.albedo[i]);
+      back += deltaLight->reflected(s.position(i), -s.normal(i), s.albedo[i]);
+    }
+    out.add(CloudPointKind::kSurfel, s.position(i), s.normal(i), s.radius(i), front, back, 0.0f);
+  }
   const LvoxelSet& l = cloud.lvoxels();
   for (size_t i = 0; i < l.size(); ++i) {
     const RGB source = l.sourceRadiance(i);

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "pointcloud/gather.h"
 #include "pointcloud/point_cloud.h"
 #include "src/core/atomic_file.h"
 #include "src/core/math.h"
@@ -38,8 +39,10 @@ struct ExportedCloud {
            const RGB& back, float extinction);
 };
 
-// Copies the cloud's elements (surfels first, then lvoxels).
-ExportedCloud exportCloud(const PointCloud& cloud);
+// Copies the cloud's elements (surfels first, then lvoxels). A cloud whose surfels leave the
+// delta lights to the gathers' hits (`deltaLight`, pcb with traced visibility) gets their
+// light added back: the exported radiance is all the light a surfel stands for.
+ExportedCloud exportCloud(const PointCloud& cloud, const SurfaceHitLight* deltaLight = nullptr);
 
 // Writes `cloud` to `path` (.ply or .vdb), staged in `set` (published with the render's
 // other outputs) or at once when `set` is null.

@@ -107,6 +107,7 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   if (cache.lookup) {
     o.tracer = &ctx.tracer;
     o.lookup = cache.lookup.get();
+    o.hitLight = cache.hitLight.get();
   }
   return o;
 }
@@ -206,7 +207,9 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         // Reflected light only: an emissive surface's own emission reaches every receiver
         // as an area light (surfaceDirect, the lvoxels' area samples), so a surfel that
         // also carried it would hand it out a second time through every gather.
-        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays);
+        // With a hit light the gathers take the delta lights' light at their hits.
+        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays,
+                             cache.hitLight ? LightSubset::kArea : LightSubset::kAll);
       },
       [&](const LvoxelLightQuery& q, RGB* out) {
         cloudDirectLight(ctx.lights, lvoxelLight, q.slot, out);
@@ -285,8 +288,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     octree.surfelClusters =
         settings.clusterSolidAngle > 0.0f && settings.gatherVisibility == GatherVisibility::kCloud;
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
-    if (settings.gatherVisibility == GatherVisibility::kRays)
+    if (settings.gatherVisibility == GatherVisibility::kRays) {
       cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
+      if (!ctx.lights.lights().empty())
+        cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
+    }
   }
   rte::SolveCounts counts;
   {
@@ -333,6 +339,10 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.add("grid_gathers", cache.gathers.pointCount());
     report.add("grid_gather_rays",
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));
+  }
+  if (cache.hitLight) {  // the interreflection's and the screen grid's gather hits
+    report.add("gather_hit_shadow_rays", cache.hitLight->shadowRays());
+    report.add("gather_hit_medium_evals", cache.hitLight->mediumEvals());
   }
   return cache;
 }

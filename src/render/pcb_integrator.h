@@ -12,6 +12,7 @@
 #include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_lookup.h"
 #include "src/core/collective.h"
+#include "src/render/delta_hit_light.h"
 #include "src/render/indirect_grid.h"
 #include "src/render/render_context.h"
 #include "src/render/report.h"
@@ -30,6 +31,9 @@ struct PointBasedCache {
   bool reducedShadows = false;
   IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
   std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
+  // With a lookup and delta lights in the scene: their light at each gather hit, which the
+  // surfels then leave out (delta_hit_light.h).
+  std::unique_ptr<DeltaHitLight> hitLight;
 };
 
 // Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of

@@ -147,7 +147,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
       pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
       work.charge(report.count("cache_medium_evals"), "the point cloud's light cache");
       work.throwIfExhausted();
-      if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud);
+      if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud, pointCache.hitLight.get());
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
       break;
     case Mode::kDirect:

@@ -4,14 +4,19 @@
 
 namespace lvox {
 
+// Which lights a direct-light estimate sums: pcb's surfels with traced gathers leave the
+// point, spot and directional lights to the gathers' hits (delta_hit_light.h).
+enum class LightSubset { kAll, kDelta, kArea };
+
 // Reflected radiance rho/pi * sum_lights Li cos(theta) V, theta from the shading normal.
 // `transmittance(ray)` gives the fraction of light that survives the media along an unoccluded
 // shadow ray (1 without media); it is only called for rays that no surface blocks.
 template <class Transmittance>
 RGB surfaceDirect(const RenderContext& ctx, const SurfaceHit& hit, const RGB& albedo, Rng& rng,
-                  Transmittance&& transmittance, uint64_t& shadowRays) {
+                  Transmittance&& transmittance, uint64_t& shadowRays,
+                  LightSubset subset = LightSubset::kAll) {
   RGB sum(0.0f);
-  ctx.lights.forEachSample(hit.point, &hit.normal, rng, [&](const LightSample& s) {
+  auto add = [&](const LightSample& s) {
     // The geometric normal decides visibility, the shading normal the cosine.
     if (dot(s.wi, hit.normal) <= 0.0f) return;
     const float cosTheta = dot(s.wi, hit.shading);
@@ -20,7 +25,10 @@ RGB surfaceDirect(const RenderContext& ctx, const SurfaceHit& hit, const RGB& al
     ++shadowRays;
     if (ctx.tracer.occluded(shadow)) return;
     sum += s.radiance * transmittance(shadow) * cosTheta;
-  });
+  };
+  // Delta lights first, as LightSet::forEachSample: the same sums in the same order.
+  if (subset != LightSubset::kArea) ctx.lights.forEachDeltaSample(hit.point, add);
+  if (subset != LightSubset::kDelta) ctx.lights.forEachAreaSample(hit.point, &hit.normal, rng, add);
   return albedo * sum * kInvPi;
 }
 

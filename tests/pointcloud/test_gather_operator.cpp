@@ -9,7 +9,9 @@
 #include "pointcloud/light_cache.h"
 #include "pointcloud/lvoxel_sampler.h"
 #include "pointcloud/scenes.h"
+#include "pointcloud/surfel_lookup.h"
 #include "pointcloud/surfel_sampler.h"
+#include "src/geometry/ray_tracer.h"
 
 namespace lvox {
 namespace {
@@ -223,6 +225,104 @@ TEST(GatherOperator, ReservesEveryBlockItStoresAndStopsWhenRefused) {
   EXPECT_THROW(GatherOperator(pc, rows, record, 0, 1,
                               [](uint64_t) { throw std::runtime_error("over budget"); }),
                std::runtime_error);
+}
+
+// The renderer's delta lights at a traced hit (SurfaceHitLight), here a constant radiance.
+struct ConstantHitLight final : SurfaceHitLight {
+  RGB radiance;
+  explicit ConstantHitLight(const RGB& l) : radiance(l) {}
+  RGB reflected(const SurfaceHit&) const override { return radiance; }
+  RGB reflected(const Vec3&, const Vec3&, const RGB& albedo) const override {
+    return albedo * radiance;
+  }
+};
+
+TEST(GatherOperator, TracedHitsLightJoinsEveryPassAsAConstant) {
+  // The closed box with traced visibility, its surfels without light of their own, and
+  // every gather hit reflecting radiance 1 (the delta lights' light, which the surfels
+  // leave to the hits): pass 1 gives the inner sides rho * 1, and each further pass one
+  // more bounce of it, L_P = rho + ... + rho^P. The outer sides' rays leave the box and
+  // hit nothing: 0.
+  TriangleMesh mesh;
+  test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
+  const Material m{"box", RGB(0.5f), RGB(0.0f)};
+  const RayTracer tracer(mesh);
+  const ConstantHitLight light(RGB(1.0f));
+  for (int passes : {1, 2, 3}) {
+    PointCloud pc(sampleSurfelsUniform(mesh, {m}, {0.25f, 1.15f, 4}), LvoxelSet{});
+    cacheDirectLight(
+        pc, [](const SurfelLightQuery&) { return RGB(0.0f); },
+        [](const LvoxelLightQuery&) { return RGB(0.0f); });
+    const SurfelLookup lookup(pc.surfels(), 0.25f);
+    GatherOptions o;
+    o.samples = 4;
+    o.tracer = &tracer;
+    o.lookup = &lookup;
+    o.hitLight = &light;
+    cacheInterreflection(pc, IsotropicPhase{}, o, o, passes, 5);
+    const float expected = 1.0f - std::pow(0.5f, static_cast<float>(passes));
+    const CloudSurfels& s = pc.surfels();
+    for (size_t i = 0; i < s.size(); ++i) {
+      ASSERT_NEAR(s.radianceFront[i].x, expected, 1e-5f) << passes << " " << i;
+      ASSERT_EQ(s.radianceBack[i].x, 0.0f) << passes << " " << i;
+    }
+  }
+}
+
+TEST(GatherOperator, TracedHitsLightIsProjectedLikeTheRayItArrivesBy) {
+  // With directional lvoxels a row's result is the spherical-harmonic projection of its
+  // rays' radiance; the hit light's share of a ray (behind the medium, so attenuated) is
+  // projected with it: the row plus its constant equals the ray's whole radiance, as a
+  // RadianceSink finds it, times Yhat_k.
+  TriangleMesh mesh;
+  test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
+  const RayTracer tracer(mesh);
+  const test::BoxMedium medium(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.8f, 0.6f, 0.8f), RGB(0.1f),
+                               RGB(1.5f));
+  LvoxelSet lvoxels = sampleLvoxels(medium, {0.1f});
+  lvoxels.light.setCoefficients(kShCoefficients);
+  lvoxels.phaseMoments.assign(lvoxels.size(), {0.6f, 0.3f});
+  PointCloud pc = litBox(0.5f, 0.05f, lvoxels);
+  const SurfelLookup lookup(pc.surfels(), 0.05f);
+  const ConstantHitLight light(RGB(0.75f, 0.5f, 0.25f));
+  GatherOptions o;
+  o.tracer = &tracer;
+  o.lookup = &lookup;
+  o.hitLight = &light;
+  const Vec3 origin(0.5f, 0.05f, 0.5f);
+  const Vec3 dirs[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
+                       normalize(Vec3(0.6f, 0.5f, -0.4f))};
+  RGB constants[3][kShCoefficients];
+  const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
+    std::fill(constants[row], constants[row] + kShCoefficients, RGB(0.0f));
+    rec.constant = constants[row];
+    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
+  });
+  ASSERT_EQ(op.coefficients(), kShCoefficients);
+  GatherValues values;
+  op.valuesInto(pc, o.background, values);
+  std::vector<RGB> applied;
+  op.apply(values, applied);
+  for (size_t row = 0; row < 3; ++row) {
+    TraversalScratch scratch;
+    RadianceSink sink{pc, o.background};
+    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, sink);
+    float y[kShCoefficients];
+    shBasis(dirs[row], kShCoefficients, y);
+    // The first two rays cross the medium: their hit light arrives attenuated.
+    if (row < 2) {
+      EXPECT_LT(constants[row][0].z, 0.25f * y[0] * 0.99f) << row;
+    }
+    EXPECT_GT(constants[row][0].z, 0.0f) << row;
+    for (int k = 0; k < kShCoefficients; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const float want = sink.radiance[c] * y[k];
+        EXPECT_NEAR(
+            applied[row * kShCoefficients + static_cast<size_t>(k)][c] + constants[row][k][c], want,
+            (1.0f / 2048.0f) * (1.0f + std::abs(want)))
+            << row << " " << k << " " << c;
+      }
+  }
 }
 
 }  // namespace

@@ -1,6 +1,11 @@
 // --mode pcb-surfels end to end: the point cloud replaces one bounce of indirect light.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "src/core/image_metrics.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
 
@@ -85,6 +90,74 @@ TEST(PointBasedRenderer, EmissiveSurfacesAreNotCountedTwice) {
   const RGB direct = render(withMode("direct"), directReport).image.at(0, 0);
   EXPECT_GT(direct.x, 0.1f);
   EXPECT_NEAR(pcb.x, direct.x, 0.01f * direct.x);
+}
+
+// A sunlit floor under a roof of slats 0.1 wide and 0.1 apart, a back wall and a red side
+// wall: stripes of sun much narrower than the surfel spacing, and slats whose faces have few
+// surfels of their own. With traced gathers the sun's light is evaluated at each gather
+// hit (delta_hit_light.h), not read from the nearest surfel.
+std::string pergola(int surfels, int bounces) {
+  std::string shapes =
+      R"({"type": "quad", "corners": [[-3,0,-3],[-3,0,3],[3,0,3],[3,0,-3]], "material": "white"},
+         {"type": "quad", "corners": [[-3,0,-3],[3,0,-3],[3,3,-3],[-3,3,-3]], "material": "white"},
+         {"type": "quad", "corners": [[-3,0,-3],[-3,3,-3],[-3,3,3],[-3,0,3]], "material": "red"})";
+  for (int j = 0; j < 20; ++j) {
+    const std::string z0 = std::to_string(-3.0 + 0.2 * j), z1 = std::to_string(-2.9 + 0.2 * j);
+    shapes += R"(, {"type": "box", "min": [-3, 2.4, )" + z0 + R"(], "max": [3, 2.5, )" + z1 +
+              R"(], "material": "white"})";
+  }
+  return R"({
+    "camera": {"position": [0, 1.2, 2.8], "look_at": [0, 1, -3], "vfov_deg": 60, "width": 48, "height": 32},
+    "render": {"spp": 8},
+    "materials": {"white": {"albedo": 0.7}, "red": {"albedo": [0.7, 0.2, 0.2]}},
+    "shapes": [)" +
+         shapes + R"(],
+    "lights": [{"type": "directional", "direction": [0.3, -0.9, -0.25], "irradiance": 3}],
+    "pointcloud": {"target_surfels": )" +
+         std::to_string(surfels) + R"(, "bounces": )" + std::to_string(bounces) +
+         R"(, "gather_spacing": 1}
+  })";
+}
+
+Image renderPergola(const std::string& mode, int surfels, int bounces, int spp, int maxBounces) {
+  Scene scene = parseScene(pergola(surfels, bounces), "/tmp/pcb-pergola.json");
+  scene.render.mode = parseMode(mode, "test", "mode");
+  scene.render.spp = spp;
+  scene.render.maxBounces = maxBounces;
+  Report report;
+  return renderScene(scene.job(), report);
+}
+
+TEST(PointBasedRenderer, SunlitGatherHitsDoNotDependOnTheSurfelSpacing) {
+  // One bounce (no interreflection passes): the sun is the only light, so every gather
+  // hit's light is its own shadow ray's, and 300 surfels give the image 3000 give, bit for
+  // bit. It equals MC's direct plus one bounce within the noise of both means (measured
+  // 1.006 against 4096 paths). Read from the nearest surfel as before, the sun's light came
+  // out 9.4 % too bright at 300 surfels and 1.7 % too dark at 3000.
+  const Image coarse = renderPergola("pcb", 300, 0, 8, 2);
+  const Image fine = renderPergola("pcb", 3000, 0, 8, 2);
+  EXPECT_EQ(compareImages(coarse, fine, "coarse", "fine").maxAbs, 0.0);
+  const Image mc = renderPergola("mc", 300, 0, 1024, 2);
+  const double mean = compareImages(coarse, mc, "pcb", "mc").meanRatio;
+  std::printf("pergola, one bounce: mean against MC %.4f\n", mean);
+  EXPECT_NEAR(mean, 1.0, 0.025);
+}
+
+TEST(PointBasedRenderer, SunlitSlatsConvergeWithTheCloud) {
+  // Every bounce (24 passes against paths of up to 32 events). The surfels carry the light
+  // after the first bounce, so the cloud's spacing matters again, but the error falls with
+  // it: measured means 0.977, 0.993 and 1.002 at 300, 1000 and 3000 surfels (before the
+  // sun was traced at the hits and the slats' other faces lost the lookup: 1.149, 0.983,
+  // 0.965).
+  const Image mc = renderPergola("mc", 3000, 24, 1024, 32);
+  const double coarse =
+      compareImages(renderPergola("pcb", 300, 24, 8, 32), mc, "pcb", "mc").meanRatio;
+  const double fine =
+      compareImages(renderPergola("pcb", 3000, 24, 8, 32), mc, "pcb", "mc").meanRatio;
+  std::printf("pergola, mean against MC: 300 surfels %.4f, 3000 surfels %.4f\n", coarse, fine);
+  EXPECT_NEAR(coarse, 1.0, 0.04);
+  EXPECT_NEAR(fine, 1.0, 0.015);
+  EXPECT_LT(std::abs(fine - 1.0), std::abs(coarse - 1.0));
 }
 
 }  // namespace

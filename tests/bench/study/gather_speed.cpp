@@ -76,6 +76,7 @@ struct HashSink {
   void lvoxelCluster(uint32_t n, const RGB& w) { add(6, n, w); }
   void beginRay(const Vec3&) {}
   void addBackground(const RGB& w) { add(7, 0, w); }
+  void surfaceLight(const RGB& weighted) { add(8, 0, weighted); }
 };
 
 enum class Kind { Disks, LvoxelsOnly };

@@ -1,0 +1,44 @@
+#pragma once
+// The point, spot and directional lights' light at pcb's traced gather hits
+// (pointcloud/gather.h, SurfaceHitLight): exact shadow rays and transmittance through the
+// media, at the hit itself, with the albedo under it. With `"gather_visibility": "rays"`
+// the surfels then cache the other lights' light only (docs/pcb.md: a delta light's shadow
+// edges are sharper than the surfel spacing).
+#include <tbb/combinable.h>
+
+#include <cstdint>
+
+#include "pointcloud/gather.h"
+#include "src/render/render_context.h"
+#include "src/render/volume_transport.h"
+
+namespace lvox {
+
+class DeltaHitLight final : public SurfaceHitLight {
+ public:
+  // `reducedShadows`: transmittance through directional lvoxels' media without the forward
+  // peaks, as every shadow ray of the cloud's light (PointBasedCache::reducedShadows).
+  DeltaHitLight(const RenderContext& ctx, const VolumeTransport& volume, bool reducedShadows)
+      : ctx_(ctx), volume_(volume), reducedShadows_(reducedShadows) {}
+
+  RGB reflected(const SurfaceHit& hit) const override;
+  RGB reflected(const Vec3& p, const Vec3& n, const RGB& albedo) const override;
+
+  // Summed over the threads since construction.
+  uint64_t shadowRays() const;
+  uint64_t mediumEvals() const;
+
+ private:
+  struct Counts {
+    uint64_t shadowRays = 0;
+    rte::SolveCounts solve;
+  };
+  RGB reflectedAt(const SurfaceHit& hit, const RGB& albedo) const;
+
+  const RenderContext& ctx_;
+  const VolumeTransport& volume_;
+  bool reducedShadows_;
+  mutable tbb::combinable<Counts> counts_;
+};
+
+}  // namespace lvox
