@@ -140,13 +140,35 @@ TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
 // ray each: the operator's row is that ray's radiance (as a RadianceSink finds it, lvoxels
 // and their clusters evaluated along the ray) times Yhat_k(wi), the ray's share of the
 // row's spherical-harmonic projection.
-TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
+// The lit box around a forward-scattering medium of directional lvoxels (nine coefficients).
+PointCloud boxWithDirectionalLvoxels() {
   const test::BoxMedium medium(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.8f, 0.6f, 0.8f), RGB(0.1f),
                                RGB(1.5f));
   LvoxelSet lvoxels = sampleLvoxels(medium, {0.1f});
   lvoxels.light.setCoefficients(kShCoefficients);
   lvoxels.phaseMoments.assign(lvoxels.size(), {0.6f, 0.3f});
-  PointCloud pc = litBox(0.5f, 0.05f, lvoxels);
+  return litBox(0.5f, 0.05f, lvoxels);
+}
+
+// Three rays from the box's floor, the first two through the medium.
+const Vec3 kRayOrigin(0.5f, 0.05f, 0.5f);
+const Vec3 kRayDirections[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
+                               normalize(Vec3(0.6f, 0.5f, -0.4f))};
+
+// The operator applied once to the cloud as it stands: kShCoefficients values per row.
+std::vector<RGB> applyToCloud(const GatherOperator& op, const PointCloud& pc,
+                              const RGB& background) {
+  EXPECT_EQ(op.coefficients(), kShCoefficients);
+  GatherValues values;
+  op.valuesInto(pc, background, values);
+  std::vector<RGB> applied;
+  op.apply(values, applied);
+  EXPECT_EQ(applied.size(), op.rows() * kShCoefficients);
+  return applied;
+}
+
+TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
+  PointCloud pc = boxWithDirectionalLvoxels();
   // Incident light from +x and from above: coefficients of bands 1 and 2.
   LvoxelLight& light = pc.mutableLvoxels().light;
   for (uint32_t c = 0; c < light.occupiedCount(); ++c) {
@@ -159,18 +181,12 @@ TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
   pc.updateAggregates();
   GatherOptions o;
   o.maxLvoxelSolidAngle = 0.03f;  // clusters too
-  const Vec3 origin(0.5f, 0.05f, 0.5f);
-  const Vec3 dirs[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
-                       normalize(Vec3(0.6f, 0.5f, -0.4f))};
+  const Vec3 origin = kRayOrigin;
+  const Vec3* dirs = kRayDirections;
   const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
     traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
   });
-  ASSERT_EQ(op.coefficients(), kShCoefficients);
-  GatherValues values;
-  op.valuesInto(pc, o.background, values);
-  std::vector<RGB> applied;
-  op.apply(values, applied);
-  ASSERT_EQ(applied.size(), 3u * kShCoefficients);
+  const std::vector<RGB> applied = applyToCloud(op, pc, o.background);
   for (size_t row = 0; row < 3; ++row) {
     TraversalScratch scratch;
     RadianceSink sink{pc, o.background};
@@ -277,32 +293,22 @@ TEST(GatherOperator, TracedHitsLightIsProjectedLikeTheRayItArrivesBy) {
   TriangleMesh mesh;
   test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
   const RayTracer tracer(mesh);
-  const test::BoxMedium medium(Vec3(0.2f, 0.2f, 0.2f), Vec3(0.8f, 0.6f, 0.8f), RGB(0.1f),
-                               RGB(1.5f));
-  LvoxelSet lvoxels = sampleLvoxels(medium, {0.1f});
-  lvoxels.light.setCoefficients(kShCoefficients);
-  lvoxels.phaseMoments.assign(lvoxels.size(), {0.6f, 0.3f});
-  PointCloud pc = litBox(0.5f, 0.05f, lvoxels);
+  const PointCloud pc = boxWithDirectionalLvoxels();
   const SurfelLookup lookup(pc.surfels(), 0.05f);
   const ConstantHitLight light(RGB(0.75f, 0.5f, 0.25f));
   GatherOptions o;
   o.tracer = &tracer;
   o.lookup = &lookup;
   o.hitLight = &light;
-  const Vec3 origin(0.5f, 0.05f, 0.5f);
-  const Vec3 dirs[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
-                       normalize(Vec3(0.6f, 0.5f, -0.4f))};
+  const Vec3 origin = kRayOrigin;
+  const Vec3* dirs = kRayDirections;
   RGB constants[3][kShCoefficients];
   const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
     std::fill(constants[row], constants[row] + kShCoefficients, RGB(0.0f));
     rec.constant = constants[row];
     traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
   });
-  ASSERT_EQ(op.coefficients(), kShCoefficients);
-  GatherValues values;
-  op.valuesInto(pc, o.background, values);
-  std::vector<RGB> applied;
-  op.apply(values, applied);
+  const std::vector<RGB> applied = applyToCloud(op, pc, o.background);
   for (size_t row = 0; row < 3; ++row) {
     TraversalScratch scratch;
     RadianceSink sink{pc, o.background};
