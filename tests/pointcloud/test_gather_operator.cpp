@@ -155,6 +155,31 @@ const Vec3 kRayOrigin(0.5f, 0.05f, 0.5f);
 const Vec3 kRayDirections[] = {normalize(Vec3(0.2f, 1, 0.1f)), normalize(Vec3(-0.5f, 1, 0.3f)),
                                normalize(Vec3(0.6f, 0.5f, -0.4f))};
 
+// An operator of three rows, row r the ray kRayDirections[r]; with `constants`, the rows'
+// constants (hit light) go there.
+GatherOperator recordRays(const PointCloud& pc, const GatherOptions& o,
+                          RGB (*constants)[kShCoefficients] = nullptr) {
+  return GatherOperator(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
+    if (constants) {
+      std::fill(constants[row], constants[row] + kShCoefficients, RGB(0.0f));
+      rec.constant = constants[row];
+    }
+    traceGatherRay(pc, Ray{kRayOrigin, kRayDirections[row], o.rayOffset, kInf}, o, 1.0f, scratch,
+                   rec);
+  });
+}
+
+// What a RadianceSink finds along ray `row`, and the ray's Yhat_k.
+RGB sinkRadiance(const PointCloud& pc, const GatherOptions& o, size_t row,
+                 float (&yhat)[kShCoefficients]) {
+  TraversalScratch scratch;
+  RadianceSink sink{pc, o.background};
+  traceGatherRay(pc, Ray{kRayOrigin, kRayDirections[row], o.rayOffset, kInf}, o, 1.0f, scratch,
+                 sink);
+  shBasis(kRayDirections[row], kShCoefficients, yhat);
+  return sink.radiance;
+}
+
 // The operator applied once to the cloud as it stands: kShCoefficients values per row.
 std::vector<RGB> applyToCloud(const GatherOperator& op, const PointCloud& pc,
                               const RGB& background) {
@@ -181,33 +206,23 @@ TEST(GatherOperator, DirectionalLvoxelsAreEvaluatedAlongEachRayAndProjected) {
   pc.updateAggregates();
   GatherOptions o;
   o.maxLvoxelSolidAngle = 0.03f;  // clusters too
-  const Vec3 origin = kRayOrigin;
-  const Vec3* dirs = kRayDirections;
-  const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
-    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
-  });
-  const std::vector<RGB> applied = applyToCloud(op, pc, o.background);
+  const std::vector<RGB> applied = applyToCloud(recordRays(pc, o), pc, o.background);
   for (size_t row = 0; row < 3; ++row) {
-    TraversalScratch scratch;
-    RadianceSink sink{pc, o.background};
-    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, sink);
     float y[kShCoefficients];
-    shBasis(dirs[row], kShCoefficients, y);
+    const RGB radiance = sinkRadiance(pc, o, row, y);
     for (int k = 0; k < kShCoefficients; ++k)
-      EXPECT_NEAR(applied[row * kShCoefficients + static_cast<size_t>(k)].x, sink.radiance.x * y[k],
-                  (1.0f / 2048.0f) * (1.0f + std::abs(sink.radiance.x * y[k])))
+      EXPECT_NEAR(applied[row * kShCoefficients + static_cast<size_t>(k)].x, radiance.x * y[k],
+                  (1.0f / 2048.0f) * (1.0f + std::abs(radiance.x * y[k])))
           << row << " " << k;
   }
   // The lvoxels' light depends on direction here: the rays see different lvoxel radiance
   // than their isotropic mean would give.
-  TraversalScratch scratch;
-  RadianceSink directional{pc, o.background};
-  traceGatherRay(pc, Ray{origin, dirs[0], o.rayOffset, kInf}, o, 1.0f, scratch, directional);
+  float y[kShCoefficients];
+  const RGB directional = sinkRadiance(pc, o, 0, y);
   pc.mutableLvoxels().phaseMoments.assign(pc.lvoxels().size(), {0.0f, 0.0f});
   pc.updateAggregates();
-  RadianceSink isotropic{pc, o.background};
-  traceGatherRay(pc, Ray{origin, dirs[0], o.rayOffset, kInf}, o, 1.0f, scratch, isotropic);
-  EXPECT_GT(std::abs(directional.radiance.x - isotropic.radiance.x), 0.01f * isotropic.radiance.x);
+  const RGB isotropic = sinkRadiance(pc, o, 0, y);
+  EXPECT_GT(std::abs(directional.x - isotropic.x), 0.01f * isotropic.x);
 }
 
 }  // namespace
@@ -300,21 +315,11 @@ TEST(GatherOperator, TracedHitsLightIsProjectedLikeTheRayItArrivesBy) {
   o.tracer = &tracer;
   o.lookup = &lookup;
   o.hitLight = &light;
-  const Vec3 origin = kRayOrigin;
-  const Vec3* dirs = kRayDirections;
   RGB constants[3][kShCoefficients];
-  const GatherOperator op(pc, 3, [&](size_t row, GatherRecorder& rec, TraversalScratch& scratch) {
-    std::fill(constants[row], constants[row] + kShCoefficients, RGB(0.0f));
-    rec.constant = constants[row];
-    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, rec);
-  });
-  const std::vector<RGB> applied = applyToCloud(op, pc, o.background);
+  const std::vector<RGB> applied = applyToCloud(recordRays(pc, o, constants), pc, o.background);
   for (size_t row = 0; row < 3; ++row) {
-    TraversalScratch scratch;
-    RadianceSink sink{pc, o.background};
-    traceGatherRay(pc, Ray{origin, dirs[row], o.rayOffset, kInf}, o, 1.0f, scratch, sink);
     float y[kShCoefficients];
-    shBasis(dirs[row], kShCoefficients, y);
+    const RGB radiance = sinkRadiance(pc, o, row, y);
     // The first two rays cross the medium: their hit light arrives attenuated.
     if (row < 2) {
       EXPECT_LT(constants[row][0].z, 0.25f * y[0] * 0.99f) << row;
@@ -322,7 +327,7 @@ TEST(GatherOperator, TracedHitsLightIsProjectedLikeTheRayItArrivesBy) {
     EXPECT_GT(constants[row][0].z, 0.0f) << row;
     for (int k = 0; k < kShCoefficients; ++k)
       for (int c = 0; c < 3; ++c) {
-        const float want = sink.radiance[c] * y[k];
+        const float want = radiance[c] * y[k];
         EXPECT_NEAR(
             applied[row * kShCoefficients + static_cast<size_t>(k)][c] + constants[row][k][c], want,
             (1.0f / 2048.0f) * (1.0f + std::abs(want)))
