@@ -24,15 +24,18 @@ class DeltaHitLight final : public SurfaceHitLight {
   RGB reflected(const SurfaceHit& hit) const override;
   RGB reflected(const Vec3& p, const Vec3& n, const RGB& albedo) const override;
 
-  // Summed over the threads since construction.
-  uint64_t shadowRays() const;
-  uint64_t mediumEvals() const;
-
- private:
   struct Counts {
     uint64_t shadowRays = 0;
     rte::SolveCounts solve;
   };
+  // Summed over the threads since construction.
+  uint64_t shadowRays() const;
+  uint64_t mediumEvals() const;
+  // The calling thread's own since construction: a camera sample's gather takes the
+  // difference, to count its shadow rays and charge its evaluations to the work budget.
+  Counts threadCounts() const { return counts_.local(); }
+
+ private:
   RGB reflectedAt(const SurfaceHit& hit, const RGB& albedo) const;
 
   const RenderContext& ctx_;

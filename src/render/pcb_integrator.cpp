@@ -375,7 +375,14 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       RGB irradiance;
       if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
         thread_local TraversalScratch scratch;
+        const DeltaHitLight::Counts before =
+            cache.hitLight ? cache.hitLight->threadCounts() : DeltaHitLight::Counts{};
         irradiance = gatherIrradiance(*cache.cloud, hit.point, hit.normal, options, rng, scratch);
+        if (cache.hitLight) {  // the delta lights' shadow rays at this gather's hits
+          const DeltaHitLight::Counts after = cache.hitLight->threadCounts();
+          shadowRays += after.shadowRays - before.shadowRays;
+          solveCounts.mediumEvals += after.solve.mediumEvals - before.solve.mediumEvals;
+        }
         counters.gatherRays.fetch_add(static_cast<uint64_t>(options.samples),
                                       std::memory_order_relaxed);
       }

@@ -145,7 +145,10 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     case Mode::kPcb:
     case Mode::kPcbSurfels:
       pointCache = buildPointCloud(ctx, volume, job.pointcloud, job.sceneFile, report, team);
-      work.charge(report.count("cache_medium_evals"), "the point cloud's light cache");
+      // The caches' own evaluations and those of the delta lights' shadow rays at the
+      // interreflection's and the screen grid's gather hits.
+      work.charge(report.count("cache_medium_evals") + report.count("gather_hit_medium_evals"),
+                  "the point cloud's light cache");
       work.throwIfExhausted();
       if (plan.cloudOut) *plan.cloudOut = exportCloud(*pointCache.cloud, pointCache.hitLight.get());
       sampler = pcbSampler(ctx, volume, pointCache, job.pointcloud, plan.spp, counters);
