@@ -341,8 +341,10 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));
   }
   if (cache.hitLight) {  // the interreflection's and the screen grid's gather hits
-    report.add("gather_hit_shadow_rays", cache.hitLight->shadowRays());
-    report.add("gather_hit_medium_evals", cache.hitLight->mediumEvals());
+    std::vector<uint64_t> hits{cache.hitLight->shadowRays(), cache.hitLight->mediumEvals()};
+    team.sum(hits);  // each rank traced its own rows
+    report.add("gather_hit_shadow_rays", hits[0]);
+    report.add("gather_hit_medium_evals", hits[1]);
   }
   return cache;
 }
