@@ -33,15 +33,12 @@ RGB DeltaHitLight::reflectedAt(const SurfaceHit& hit, const RGB& albedo) const {
   return isFinite(l) ? l : RGB(0.0f);
 }
 
-uint64_t DeltaHitLight::shadowRays() const {
-  uint64_t sum = 0;
-  counts_.combine_each([&](const Counts& c) { sum += c.shadowRays; });
-  return sum;
-}
-
-uint64_t DeltaHitLight::mediumEvals() const {
-  uint64_t sum = 0;
-  counts_.combine_each([&](const Counts& c) { sum += c.solve.mediumEvals; });
+DeltaHitLight::Counts DeltaHitLight::total() const {
+  Counts sum;
+  counts_.combine_each([&](const Counts& c) {
+    sum.shadowRays += c.shadowRays;
+    sum.solve += c.solve;
+  });
   return sum;
 }
 

@@ -29,8 +29,7 @@ class DeltaHitLight final : public SurfaceHitLight {
     rte::SolveCounts solve;
   };
   // Summed over the threads since construction.
-  uint64_t shadowRays() const;
-  uint64_t mediumEvals() const;
+  Counts total() const;
   // The calling thread's own since construction: a camera sample's gather takes the
   // difference, to count its shadow rays and charge its evaluations to the work budget.
   Counts threadCounts() const { return counts_.local(); }

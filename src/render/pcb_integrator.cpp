@@ -341,7 +341,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));
   }
   if (cache.hitLight) {  // the interreflection's and the screen grid's gather hits
-    std::vector<uint64_t> hits{cache.hitLight->shadowRays(), cache.hitLight->mediumEvals()};
+    const DeltaHitLight::Counts total = cache.hitLight->total();
+    std::vector<uint64_t> hits{total.shadowRays, total.solve.mediumEvals};
     team.sum(hits);  // each rank traced its own rows
     report.add("gather_hit_shadow_rays", hits[0]);
     report.add("gather_hit_medium_evals", hits[1]);
