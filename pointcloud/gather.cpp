@@ -25,6 +25,14 @@ RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
   return sink.radiance;
 }
 
+IrradianceParts gatherIrradianceParts(const PointCloud& cloud, const Vec3& p, const Vec3& n,
+                                      const GatherOptions& options, Rng& rng,
+                                      TraversalScratch& scratch) {
+  RadianceSink sink{cloud, RGB(0.0f)};
+  gatherIrradianceInto(cloud, p, n, options, rng, scratch, sink);
+  return {sink.radiance, sink.escaped * options.background};
+}
+
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng) {
   TraversalScratch scratch;

@@ -105,6 +105,7 @@ struct RadianceSink {
   const PointCloud& cloud;
   RGB background{0, 0, 0};
   RGB radiance{0, 0, 0};
+  RGB escaped{0, 0, 0};  // summed weights of the rays that left the cloud (x background)
   int coefficients = cloud.lvoxels().light.coefficients();
   float yhat[kShCoefficients] = {1.0f};  // the ray's spherical harmonics (directional lvoxels)
   Vec3 direction{0, 0, 1};
@@ -127,7 +128,10 @@ struct RadianceSink {
   void lvoxelCluster(uint32_t n, const RGB& w) {
     radiance += w * shDot(cloud.lvoxelClusterCoefficients(n), yhat, coefficients);
   }
-  void addBackground(const RGB& w) { radiance += w * background; }
+  void addBackground(const RGB& w) {
+    radiance += w * background;
+    escaped += w;
+  }
   void surfaceLight(const RGB& weighted) { radiance += weighted; }
 };
 
@@ -196,6 +200,16 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
 
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng, TraversalScratch& scratch);
+
+// The same irradiance split by where its rays ended: `background` from the rays that left
+// the cloud (options.background times what the media let through), `cloud` from the rest.
+struct IrradianceParts {
+  RGB cloud{0.0f};
+  RGB background{0.0f};
+};
+IrradianceParts gatherIrradianceParts(const PointCloud& cloud, const Vec3& p, const Vec3& n,
+                                      const GatherOptions& options, Rng& rng,
+                                      TraversalScratch& scratch);
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng);
 

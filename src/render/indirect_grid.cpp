@@ -24,7 +24,8 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
   nx_ = (camera.width - 1) / spacing_ + 2;
   ny_ = (camera.height - 1) / spacing_ + 2;
   points_.resize(static_cast<size_t>(nx_ * ny_));
-  std::vector<RGB> irradiance(points_.size(), RGB(0.0f));
+  // Per point the irradiance from the cloud, then from the background.
+  std::vector<RGB> irradiance(2 * points_.size(), RGB(0.0f));
   std::vector<char> hits(points_.size(), 0);
   const long rank = team.rank(), ranks = team.size();
   tbb::parallel_for(long(0), ny_, [&](long j) {
@@ -47,18 +48,21 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
       hits[static_cast<size_t>(j * nx_ + i)] = 1;
       if (j % ranks != rank) continue;  // another rank's row
       Rng rng(seed ^ 0x9a7e5u, static_cast<uint64_t>(j * nx_ + i));
-      irradiance[static_cast<size_t>(j * nx_ + i)] =
-          gatherIrradiance(cloud, hit.point, hit.normal, options, rng, scratch);
+      const IrradianceParts parts =
+          gatherIrradianceParts(cloud, hit.point, hit.normal, options, rng, scratch);
+      irradiance[2 * static_cast<size_t>(j * nx_ + i)] = parts.cloud;
+      irradiance[2 * static_cast<size_t>(j * nx_ + i) + 1] = parts.background;
     }
   });
   team.sum(floatsOf(irradiance));  // each point's from its row's rank, zeros from the others
   for (size_t k = 0; k < points_.size(); ++k) {
-    points_[k].irradiance = irradiance[k];
-    points_[k].valid = hits[k] && isFinite(irradiance[k]);
+    points_[k].irradiance = {irradiance[2 * k], irradiance[2 * k + 1]};
+    points_[k].valid = hits[k] && isFinite(irradiance[2 * k]) && isFinite(irradiance[2 * k + 1]);
   }
 }
 
-bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradiance) const {
+bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit,
+                          IrradianceParts& irradiance) const {
   const float u = (px - 0.5f) / static_cast<float>(spacing_);
   const float v = (py - 0.5f) / static_cast<float>(spacing_);
   const float radius = filterRadius_;
@@ -66,7 +70,7 @@ bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradi
   const long i1 = std::min(static_cast<long>(std::ceil(u + radius)) - 1, nx_ - 1);
   const long j0 = std::max(static_cast<long>(std::floor(v - radius)) + 1, 0L);
   const long j1 = std::min(static_cast<long>(std::ceil(v + radius)) - 1, ny_ - 1);
-  RGB sum(0.0f);
+  IrradianceParts sum;
   float weightSum = 0.0f;
   for (long j = j0; j <= j1; ++j)
     for (long i = i0; i <= i1; ++i) {
@@ -79,12 +83,13 @@ bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit, RGB& irradi
       if (std::abs(dot(d, hit.normal)) > kMaxPlaneDistance * pt.footprint ||
           length(d) > pt.reach * radius)
         continue;
-      sum += pt.irradiance * w;
+      sum.cloud += pt.irradiance.cloud * w;
+      sum.background += pt.irradiance.background * w;
       weightSum += w;
     }
   // A sample right next to rejected points would lean on one far point alone.
   if (weightSum < 0.05f) return false;
-  irradiance = sum / weightSum;
+  irradiance = {sum.cloud / weightSum, sum.background / weightSum};
   return true;
 }
 

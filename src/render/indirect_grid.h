@@ -1,7 +1,8 @@
 #pragma once
 // Final gathers at a reduced screen-space rate (pcb modes): the point cloud is gathered
 // at camera hits on a grid of pixels every `spacing` pixels, and each camera sample
-// interpolates the indirect irradiance of the four grid points around it. A grid point
+// filters the irradiance of the grid points around it, the cloud's and the background's
+// (the sky, when the gathers carry it) apart. A grid point
 // only counts where it sees the same surface: normal within ~25 degrees and the hit
 // point within a few pixel footprints of the sample's plane (irradiance caching's
 // validity test, Ward 1988, in screen space). Samples with no valid grid point gather
@@ -26,14 +27,15 @@ class IndirectGrid {
 
   bool empty() const { return points_.empty(); }
   size_t pointCount() const { return points_.size(); }
-  // Irradiance at the camera sample at image position (px, py) whose hit is `hit`; false
-  // when no grid point around it is valid for that hit.
-  bool lookup(float px, float py, const SurfaceHit& hit, RGB& irradiance) const;
+  // Irradiance at the camera sample at image position (px, py) whose hit is `hit`, split as
+  // gathered (from the cloud, from the background); false when no grid point around it is
+  // valid for that hit.
+  bool lookup(float px, float py, const SurfaceHit& hit, IrradianceParts& irradiance) const;
 
  private:
   struct Point {
     Vec3 position, normal;
-    RGB irradiance;
+    IrradianceParts irradiance;
     float footprint = 0.0f;  // world size of one pixel at the hit
     float reach = 0.0f;      // how far along the surface the point may be used
     bool valid = false;

@@ -292,6 +292,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
       cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
       if (!ctx.lights.lights().empty())
         cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
+      cache.environmentInGathers = !isBlack(ctx.lights.environment());
     }
   }
   rte::SolveCounts counts;
@@ -332,8 +333,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   reportCloud(cache, spacing, report);
   if (settings.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
-    const GatherOptions options =
-        gatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
+    GatherOptions options = gatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
+    if (cache.environmentInGathers) options.background = ctx.lights.environment();
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
                                  settings.gatherFilter, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
@@ -354,9 +355,13 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                         const PointBasedCache& cache, const PointCloudSettings& settings, int spp,
                         SamplerCounters& counters) {
   const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
-  const GatherOptions options =
+  GatherOptions options =
       gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
-  return [&ctx, &volume, &cache, &counters, options](int x, int y, Rng& rng, SampleLayers* layers) {
+  if (cache.environmentInGathers) options.background = ctx.lights.environment();
+  const LightSubset atHits =
+      cache.environmentInGathers ? LightSubset::kAllButConstantEnvironment : LightSubset::kAll;
+  return [&ctx, &volume, &cache, &counters, options, atHits](int x, int y, Rng& rng,
+                                                             SampleLayers* layers) {
     const World& world = ctx.world;
     const float px = static_cast<float>(x) + rng.uniform();
     const float py = static_cast<float>(y) + rng.uniform();
@@ -374,13 +379,14 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       // The cloud carries irradiance; the texture multiplies it here, at the pixel's own
       // footprint, so texture detail is never blurred to the surfel spacing.
       const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
-      direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays);
-      RGB irradiance;
+      direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays, atHits);
+      IrradianceParts irradiance;
       if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
         thread_local TraversalScratch scratch;
         const DeltaHitLight::Counts before =
             cache.hitLight ? cache.hitLight->threadCounts() : DeltaHitLight::Counts{};
-        irradiance = gatherIrradiance(*cache.cloud, hit.point, hit.normal, options, rng, scratch);
+        irradiance =
+            gatherIrradianceParts(*cache.cloud, hit.point, hit.normal, options, rng, scratch);
         if (cache.hitLight) {  // the delta lights' shadow rays at this gather's hits
           const DeltaHitLight::Counts after = cache.hitLight->threadCounts();
           shadowRays += after.shadowRays - before.shadowRays;
@@ -391,7 +397,9 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       }
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
       emission = m.emission;
-      indirect = albedo * irradiance * kInvPi;
+      // The environment's light is direct light (the layers), though the gathers found it.
+      direct += albedo * irradiance.background * kInvPi;
+      indirect = albedo * irradiance.cloud * kInvPi;
       if (layers) fillSurfaceLayers(*layers, hit, albedo);
     } else {
       environment = ctx.lights.environment(ray.dir);

@@ -34,6 +34,10 @@ struct PointBasedCache {
   // With a lookup and delta lights in the scene: their light at each gather hit, which the
   // surfels then leave out (delta_hit_light.h).
   std::unique_ptr<DeltaHitLight> hitLight;
+  // With a lookup and a constant environment: the final gathers' rays that leave the cloud
+  // see it, through the lvoxels they passed, and the camera hits' direct light leaves it
+  // out (docs/pcb.md, "The environment in the final gathers").
+  bool environmentInGathers = false;
 };
 
 // Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of

@@ -5,8 +5,9 @@
 namespace lvox {
 
 // Which lights a direct-light estimate sums: pcb's surfels with traced gathers leave the
-// point, spot and directional lights to the gathers' hits (delta_hit_light.h).
-enum class LightSubset { kAll, kDelta, kArea };
+// point, spot and directional lights to the gathers' hits (delta_hit_light.h), and its
+// camera hits leave the constant environment to the final gathers.
+enum class LightSubset { kAll, kDelta, kArea, kAllButConstantEnvironment };
 
 // Reflected radiance rho/pi * sum_lights Li cos(theta) V, theta from the shading normal.
 // `transmittance(ray)` gives the fraction of light that survives the media along an unoccluded
@@ -28,7 +29,9 @@ RGB surfaceDirect(const RenderContext& ctx, const SurfaceHit& hit, const RGB& al
   };
   // Delta lights first, as LightSet::forEachSample: the same sums in the same order.
   if (subset != LightSubset::kArea) ctx.lights.forEachDeltaSample(hit.point, add);
-  if (subset != LightSubset::kDelta) ctx.lights.forEachAreaSample(hit.point, &hit.normal, rng, add);
+  if (subset != LightSubset::kDelta)
+    ctx.lights.forEachAreaSample(hit.point, &hit.normal, rng, add,
+                                 subset != LightSubset::kAllButConstantEnvironment);
   return albedo * sum * kInvPi;
 }
 

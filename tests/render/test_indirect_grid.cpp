@@ -42,11 +42,11 @@ Lookups lookUpEveryPixel(const Scene& scene, const RayTracer& tracer, const Indi
       const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
       SurfaceHit hit;
       if (!tracer.intersect(scene.world.camera.generateRay(px, py), hit)) continue;
-      RGB e;
+      IrradianceParts e;
       if (!grid.lookup(px, py, hit, e)) continue;
       ++out.found;
-      sum += e.x;
-      sumSq += static_cast<double>(e.x) * e.x;
+      sum += e.cloud.x;
+      sumSq += static_cast<double>(e.cloud.x) * e.cloud.x;
     }
   out.mean = sum / out.found;
   out.variance = sumSq / out.found - out.mean * out.mean;

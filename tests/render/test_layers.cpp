@@ -84,6 +84,20 @@ TEST(Layers, FirstSurfaceLayersHaveTheirClosedForms) {
   }
 }
 
+// The sky's light on a surface is direct light in every mode, though pcb with traced
+// gathers finds it with its final gathers' escaping rays and not with light samples: the
+// open floor sees all of the sky, so every estimate is exact, rho (E / pi + L_sky).
+TEST(Layers, SkyLightOnASurfaceIsDirectInEveryMode) {
+  const RGB rho(0.5f, 0.25f, 0.8f);
+  const RGB expected = rho * static_cast<float>(2.0 / kPi + 0.7);
+  for (Mode mode : {Mode::kDirect, Mode::kPcb, Mode::kPcbSurfels, Mode::kMc}) {
+    const std::string m(modeName(mode));
+    const RenderResult r = renderLayers(floorScene(false, 0.7f), mode, "direct,indirect");
+    expectNear(layer(r, "direct"), expected, 1e-5, m + " direct");
+    expectNear(layer(r, "indirect"), RGB(0.0f), 0.0, m + " indirect");
+  }
+}
+
 TEST(Layers, EscapingRayIsEnvironmentOnly) {
   for (Mode mode : {Mode::kDirect, Mode::kPcb, Mode::kMc}) {
     const std::string m(modeName(mode));
