@@ -77,6 +77,9 @@ struct GatherRecorder {
   // operator projects its rays (columns.coefficients values). The caller owns it; null
   // when the gathers have no hit light.
   RGB* constant = nullptr;
+  // With `constant`: the radiance the row's escaping rays see. It is constant too, so it
+  // joins `constant` and not the background column. Null: the column.
+  const RGB* background = nullptr;
 
   void beginRay(const Vec3& dir) {
     direction = dir;
@@ -90,9 +93,15 @@ struct GatherRecorder {
   }
   void lvoxel(uint32_t i, const RGB& w) { add(columns.lvoxel(i), w); }
   void lvoxelCluster(uint32_t n, const RGB& w) { add(columns.lvoxelCluster(n), w); }
-  void addBackground(const RGB& w) { add(columns.background(), w); }
-  void surfaceLight(const RGB& weighted) {
-    LVOX_CHECK(constant, "a gather with a hit light records into a row without a constant");
+  void addBackground(const RGB& w) {
+    if (background)
+      addConstant(w * *background);
+    else
+      add(columns.background(), w);
+  }
+  void surfaceLight(const RGB& weighted) { addConstant(weighted); }
+  void addConstant(const RGB& weighted) {
+    LVOX_CHECK(constant, "a gather with a constant records into a row without one");
     if (!columns.directional()) {
       constant[0] += weighted;
       return;

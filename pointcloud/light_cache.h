@@ -170,20 +170,25 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
   // Rows: surfel fronts [0, n), backs [n, 2n), lvoxels [2n, 2n + m).
-  // What the rows' hits reflect from the delta lights (GatherOptions::hitLight) is the
-  // same every pass: each surfel side's share joins its direct radiance (it is light that
-  // bounced once, off the hit), each lvoxel's is added to its gathered light.
-  const bool hitLight = surfelOptions.hitLight || lvoxelOptions.hitLight;
+  // What the rows' hits reflect from the delta lights (GatherOptions::hitLight) and what
+  // their escaping rays see (GatherOptions::background, each kind of row its own) are the
+  // same every pass: each surfel side's share joins its direct radiance (light that
+  // bounced once off the hit, or the sky's), each lvoxel's is added to its gathered light.
+  const bool constants = surfelOptions.hitLight || lvoxelOptions.hitLight ||
+                         !isBlack(surfelOptions.background) || !isBlack(lvoxelOptions.background);
   const auto count = static_cast<size_t>(GatherColumns(cloud).coefficients);
   std::vector<RGB> directFront(n, RGB(0.0f)), directBack(n, RGB(0.0f));
-  std::vector<RGB> lvoxelConstant(hitLight ? m * count : 0, RGB(0.0f));
+  std::vector<RGB> lvoxelConstant(constants ? m * count : 0, RGB(0.0f));
   const auto traceStart = std::chrono::steady_clock::now();
   const GatherOperator gathers(
       cloud, 2 * n + m,
       [&](size_t row, GatherRecorder& recorder, TraversalScratch& scratch) {
         RGB constant[kShCoefficients];
         std::fill(constant, constant + kShCoefficients, RGB(0.0f));
-        if (hitLight) recorder.constant = constant;
+        if (constants) {
+          recorder.constant = constant;
+          recorder.background = row < 2 * n ? &surfelOptions.background : &lvoxelOptions.background;
+        }
         if (row < 2 * n) {
           const size_t i = row % n;
           const bool front = row < n;
@@ -199,11 +204,11 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           // keeps the light's mean, or its spherical harmonics in anisotropic media.
           gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
                               scratch, recorder);
-          if (hitLight) std::copy(constant, constant + count, &lvoxelConstant[i * count]);
+          if (constants) std::copy(constant, constant + count, &lvoxelConstant[i * count]);
         }
       },
       team.rank(), team.size(), reserve);
-  if (hitLight && team.size() > 1) {  // each rank traced its own rows' share
+  if (constants && team.size() > 1) {  // each rank traced its own rows' share
     team.sum(floatsOf(directFront));
     team.sum(floatsOf(directBack));
     team.sum(floatsOf(lvoxelConstant));
@@ -241,7 +246,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   // higher harmonics), so its mean is clamped at zero as every per-ray radiance is.
   auto updateRow = [&](size_t row, const RGB* g) {
     const size_t b = row / GatherOperator::kRowsPerBlock;
-    const RGB* c = row >= 2 * n && hitLight ? &lvoxelConstant[(row - 2 * n) * count] : nullptr;
+    const RGB* c = row >= 2 * n && constants ? &lvoxelConstant[(row - 2 * n) * count] : nullptr;
     const RGB mean = nonNegative(c ? g[0] + c[0] : g[0]);
     if (row < n)
       updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
@@ -256,7 +261,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     }
   };
   for (int pass = 0; pass < passes; ++pass) {
-    gathers.valuesInto(cloud, surfelOptions.background, values);  // the snapshot
+    // The snapshot; the backgrounds, if any, are in the rows' constants.
+    gathers.valuesInto(cloud, RGB(0.0f), values);
     std::fill(blockChange.begin(), blockChange.end(), 0.0);
     std::fill(blockTotal.begin(), blockTotal.end(), 0.0);
     if (team.size() == 1) {

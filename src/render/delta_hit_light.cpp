@@ -28,8 +28,8 @@ RGB DeltaHitLight::reflectedAt(const SurfaceHit& hit, const RGB& albedo) const {
     return volume_.transmittance(shadow, local.solve, reducedShadows_);
   };
   Rng unused(0, 0);  // delta lights take no random numbers
-  const RGB l =
-      surfaceDirect(ctx_, hit, albedo, unused, throughMedia, local.shadowRays, LightSubset::kDelta);
+  const RGB l = surfaceDirect(ctx_, hit, albedo, unused, throughMedia, local.shadowRays,
+                              LightSubset{.area = false});
   return isFinite(l) ? l : RGB(0.0f);
 }
 

@@ -102,7 +102,8 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   // (buried_surfels.h), so the offset need not skip them: half a spacing skipped real
   // nearby geometry too (4.02 % against 3.88 % delta on the atrium, docs/results.md).
   o.rayOffset = 0.25f * spacing;
-  // Light from the environment is in the direct caches already.
+  // The environment's light is in the direct caches, unless the caller gives it to the
+  // gathers' escaping rays (PointBasedCache::environmentInGathers).
   o.background = RGB(0.0f);
   if (cache.lookup) {
     o.tracer = &ctx.tracer;
@@ -207,9 +208,11 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         // Reflected light only: an emissive surface's own emission reaches every receiver
         // as an area light (surfaceDirect, the lvoxels' area samples), so a surfel that
         // also carried it would hand it out a second time through every gather.
-        // With a hit light the gathers take the delta lights' light at their hits.
-        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays,
-                             cache.hitLight ? LightSubset::kArea : LightSubset::kAll);
+        // With a hit light the gathers take the delta lights' light at their hits, and the
+        // sky may come through their escaping rays.
+        const LightSubset lights{.delta = !cache.hitLight,
+                                 .constantEnvironment = !cache.surfelEnvironmentInGathers};
+        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays, lights);
       },
       [&](const LvoxelLightQuery& q, RGB* out) {
         cloudDirectLight(ctx.lights, lvoxelLight, q.slot, out);
@@ -293,6 +296,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
       if (!ctx.lights.lights().empty())
         cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
       cache.environmentInGathers = !isBlack(ctx.lights.environment());
+      cache.surfelEnvironmentInGathers = cache.environmentInGathers && settings.bounces > 0;
     }
   }
   rte::SolveCounts counts;
@@ -303,8 +307,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   const int passes = settings.bounces;
   if (passes > 0) {
     PhaseTimer timer(report, "interreflection");
-    const GatherOptions surfelOptions =
+    GatherOptions surfelOptions =
         gatherOptions(ctx, cache, settings, spacing, settings.surfelGatherSamples);
+    if (cache.surfelEnvironmentInGathers) surfelOptions.background = ctx.lights.environment();
     GatherOptions lvoxelOptions =
         gatherOptions(ctx, cache, settings, spacing, settings.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
@@ -358,8 +363,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
   GatherOptions options =
       gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
   if (cache.environmentInGathers) options.background = ctx.lights.environment();
-  const LightSubset atHits =
-      cache.environmentInGathers ? LightSubset::kAllButConstantEnvironment : LightSubset::kAll;
+  const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
   return [&ctx, &volume, &cache, &counters, options, atHits](int x, int y, Rng& rng,
                                                              SampleLayers* layers) {
     const World& world = ctx.world;

@@ -36,8 +36,10 @@ struct PointBasedCache {
   std::unique_ptr<DeltaHitLight> hitLight;
   // With a lookup and a constant environment: the final gathers' rays that leave the cloud
   // see it, through the lvoxels they passed, and the camera hits' direct light leaves it
-  // out (docs/pcb.md, "The environment in the final gathers").
+  // out; with interreflection passes too, the surfels' gathers bring their share of it and
+  // their direct light leaves it out (docs/pcb.md, "The environment in the gathers").
   bool environmentInGathers = false;
+  bool surfelEnvironmentInGathers = false;
 };
 
 // Phase 1. Records times, counts and memory in the report. `sceneFile` names the source of

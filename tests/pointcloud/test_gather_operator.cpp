@@ -113,6 +113,52 @@ TEST(GatherOperator, PassesAddBouncesOneAtATime) {
   }
 }
 
+TEST(GatherOperator, EachKindOfRowSeesItsOwnBackground) {
+  // pcb gives the sky to the surfels' gathers and not to the lvoxels' (their direct light
+  // holds it). The closed box's inner sides never see it (L = 2 as above); its outer sides
+  // see nothing else, away from the corners' edge disks: L = 1 + rho B. The lvoxels of a
+  // cube far from the box see almost nothing but the sky, so with a black background of
+  // their own they gather almost nothing, and with the sky most of it.
+  const test::BoxMedium far(Vec3(20, 0, 0), Vec3(20.5f, 0.5f, 0.5f), RGB(0.1f), RGB(1.0f));
+  const RGB sky(0.6f, 0.3f, 0.2f);
+  auto run = [&](const RGB& lvoxelBackground) {
+    PointCloud pc = litBox(0.5f, 0.2f, sampleLvoxels(far, {0.25f}));
+    cacheDirectLight(  // dark lvoxels: what they gather comes from the box and the sky
+        pc, [](const SurfelLightQuery&) { return RGB(1.0f); },
+        [](const LvoxelLightQuery&) { return RGB(0.0f); });
+    GatherOptions surfels, lvoxels;
+    surfels.samples = lvoxels.samples = 4;
+    surfels.background = sky;
+    lvoxels.background = lvoxelBackground;
+    cacheInterreflection(pc, IsotropicPhase{}, surfels, lvoxels, 24, 5);
+    return pc;
+  };
+  const PointCloud dark = run(RGB(0.0f));
+  const CloudSurfels& s = dark.surfels();
+  size_t outerSky = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    ASSERT_NEAR(s.radianceFront[i].x, 2.0f, 1e-4f);
+    ASSERT_NEAR(s.radianceFront[i].z, 2.0f, 1e-4f);
+    const RGB expected = RGB(1.0f) + sky * 0.5f;
+    outerSky += std::abs(s.radianceBack[i].x - expected.x) < 1e-5f &&
+                std::abs(s.radianceBack[i].z - expected.z) < 1e-5f;
+  }
+  std::printf("outer sides lit by the sky alone: %zu of %zu\n", outerSky, s.size());
+  EXPECT_GT(outerSky * 5, s.size() * 4);
+  const PointCloud lit = run(sky);
+  const LvoxelLight& a = dark.lvoxels().light;
+  const LvoxelLight& b = lit.lvoxels().light;
+  ASSERT_GT(a.occupiedCount(), 0u);
+  double darkSum = 0.0, litSum = 0.0;
+  for (uint32_t slot = 0; slot < a.occupiedCount(); ++slot) {
+    darkSum += a.multiScatter(slot)[0].x;
+    litSum += b.multiScatter(slot)[0].x;
+  }
+  std::printf("lvoxels' gathered light: black background %.4g, the sky %.4g\n", darkSum, litSum);
+  EXPECT_GT(litSum, 0.0);
+  EXPECT_LT(darkSum, 0.01 * litSum);
+}
+
 TEST(GatherOperator, DoesNotDependOnTheThreadCount) {
   const test::BoxMedium medium(Vec3(0.3f, 0.3f, 0.3f), Vec3(0.7f, 0.7f, 0.7f), RGB(0.2f),
                                RGB(3.0f));
