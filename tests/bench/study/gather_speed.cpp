@@ -11,6 +11,11 @@
 //                             front, the first surfel disk ends the ray
 //   surfel gathers (lvoxels)  the octree part of ray-traced visibility: lvoxels only
 //                             (TraversalOptions::surfels = false) up to Embree's hit
+//   surfel gathers (traced)   the whole gather ray of ray-traced visibility, the default:
+//                             Embree's hit, the lvoxels in front of it, the nearest surfel
+//                             at it (traceGatherRay; the delta lights' shadow rays at the
+//                             hit are light, not traversal, and left out). Its ratio is
+//                             the gather's rate against a bare Embree ray's.
 //   lvoxel gathers (disks)    sphere rays from lvoxel centres, as the lvoxel gathers
 // Columns: rays/s of each (millions), their ratio, traversal work per ray (nodes popped +
 // elements tested), the share of rays the exact heap traversal took (see traversal.h).
@@ -38,6 +43,7 @@
 #include <vector>
 
 #include "pointcloud/gather.h"
+#include "pointcloud/surfel_lookup.h"
 #include "src/render/light_set.h"
 #include "src/render/pcb_integrator.h"
 #include "src/render/render_context.h"
@@ -79,7 +85,7 @@ struct HashSink {
   void surfaceLight(const RGB& weighted) { add(8, 0, weighted); }
 };
 
-enum class Kind { Disks, LvoxelsOnly };
+enum class Kind { Disks, LvoxelsOnly, Traced };
 
 struct Workload {
   const char* name;
@@ -167,7 +173,7 @@ uint64_t combine(const std::vector<uint64_t>& perRay) {
 }
 
 Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions& gather,
-                 int threads) {
+                 const GatherOptions& traced, int threads) {
   tbb::enumerable_thread_specific<TraversalScratch> scratch;
   std::vector<uint64_t> hashes(w.rays.size());
   const TraversalOptions lvoxelsOnly{gather.maxSolidAngle, gather.maxLvoxelSolidAngle, false};
@@ -177,6 +183,8 @@ Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions
     TraversalScratch& s = scratch.local();
     if (w.kind == Kind::Disks) {
       traceGatherRay(cloud, w.rays[k], gather, 1.0f, s, sink);
+    } else if (w.kind == Kind::Traced) {
+      traceGatherRay(cloud, w.rays[k], traced, 1.0f, s, sink);
     } else {
       GatherRayWeights<HashSink> weights{cloud, sink, 1.0f, gather.minTransmittance};
       traverse(cloud, w.rays[k], weights, lvoxelsOnly, s);
@@ -239,6 +247,11 @@ void runScene(const std::string& path, const Args& args) {
   gather.maxLvoxelSolidAngle = scene.pointcloud.lvoxelClusterSolidAngle;
   gather.rayOffset = 0.25f * spacing;
   gather.background = RGB(0.0f);
+  // Ray-traced visibility (the default): Embree finds the surface, a lookup its surfel.
+  const SurfelLookup lookup(cloud.surfels(), spacing);
+  GatherOptions tracedGather = gather;
+  tracedGather.tracer = &tracer;
+  tracedGather.lookup = &lookup;
 
   std::vector<Workload> workloads;
   workloads.push_back({"surfel gathers (disks)", Kind::Disks,
@@ -252,6 +265,9 @@ void runScene(const std::string& path, const Args& args) {
       r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
     }
     workloads.push_back(std::move(traced));
+  }
+  workloads.push_back({"surfel gathers (traced)", Kind::Traced, workloads[0].rays});
+  if (cloud.lvoxels().size() > 0) {
     workloads.push_back(
         {"lvoxel gathers (disks)", Kind::Disks, lvoxelGatherRays(cloud.lvoxels(), args.rays)});
   }
@@ -269,7 +285,7 @@ void runScene(const std::string& path, const Args& args) {
     for (int threads : args.threads) {
       Timing octree, embree;
       for (int rep = 0; rep < args.reps; ++rep) {
-        const Timing o = runOctree(cloud, w, gather, threads);
+        const Timing o = runOctree(cloud, w, gather, tracedGather, threads);
         const Timing e = runEmbree(tracer, w, threads);
         if (o.seconds < octree.seconds) octree = o;
         if (e.seconds < embree.seconds) embree = e;
