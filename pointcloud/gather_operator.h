@@ -75,7 +75,7 @@ struct GatherRecorder {
   // The light the row's hits reflect from the delta lights (GatherOptions::hitLight) does
   // not change from pass to pass: it is no column but the row's constant, projected as the
   // operator projects its rays (columns.coefficients values). The caller owns it; null
-  // when the gathers have no hit light.
+  // when the gathers have neither a hit light nor a background of their row's own.
   RGB* constant = nullptr;
   // With `constant`: the radiance the row's escaping rays see. It is constant too, so it
   // joins `constant` and not the background column. Null: the column.
