@@ -87,6 +87,29 @@ TEST(PointBasedMedia, MultipleScatteringAgreesWithMonteCarlo) {
   EXPECT_GT(pcb.report.counts.at("cache_gather_rays"), 0u);
 }
 
+// The integral over the hemisphere above the origin of radiance(l(w)) cos, l(w) the path
+// length in the slab [-3, 3] x [1, 2] x [-3, 3] (0 for directions that miss it): midpoint
+// rule over (theta, phi), the slab entered and left along each direction.
+template <class Radiance>
+double slabIrradiance(const Radiance& radiance) {
+  double irradiance = 0.0;
+  const int nt = 400, np = 400;
+  for (int i = 0; i < nt; ++i) {
+    const double theta = (i + 0.5) / nt * M_PI / 2, dt = M_PI / 2 / nt;
+    for (int j = 0; j < np; ++j) {
+      const double phi = (j + 0.5) / np * 2 * M_PI, dp = 2 * M_PI / np;
+      const double dy = std::cos(theta), dx = std::sin(theta) * std::cos(phi),
+                   dz = std::sin(theta) * std::sin(phi);
+      double t0 = 1.0 / dy, t1 = 2.0 / dy;  // between the slab's planes
+      for (double d : {dx, dz})
+        if (std::abs(d) > 1e-12) t1 = std::min(t1, 3.0 / std::abs(d));
+      const double length = std::max(0.0, t1 - t0);
+      irradiance += radiance(length) * dy * std::sin(theta) * dt * dp;
+    }
+  }
+  return irradiance;
+}
+
 // An emissive medium lights the scene: a floor (albedo 0.5) under a purely absorbing slab
 // (sigma_a = 1, emission Le = 2) 1 to 2 units above it, no light source. The floor's
 // radiance is rho / pi times its irradiance, the integral over the hemisphere of
@@ -103,23 +126,9 @@ TEST(PointBasedMedia, EmissiveMediumLightsTheFloor) {
     "media": [{"type": "homogeneous", "min": [-3, 1, -3], "max": [3, 2, 3], "sigma_a": 1, "emission": 2}],
     "volume_integrator": {"solver": "rk4", "step": 0.05},
     "pointcloud": {"lvoxel_spacing": 0.2}})";
-  // Irradiance at the origin: midpoint rule over (theta, phi), the slab [-3, 3] x [1, 2]
-  // x [-3, 3] entered and left along each direction.
-  double irradiance = 0.0;
-  const int nt = 400, np = 400;
-  for (int i = 0; i < nt; ++i) {
-    const double theta = (i + 0.5) / nt * M_PI / 2, dt = M_PI / 2 / nt;
-    for (int j = 0; j < np; ++j) {
-      const double phi = (j + 0.5) / np * 2 * M_PI, dp = 2 * M_PI / np;
-      const double dy = std::cos(theta), dx = std::sin(theta) * std::cos(phi),
-                   dz = std::sin(theta) * std::sin(phi);
-      double t0 = 1.0 / dy, t1 = 2.0 / dy;  // between the slab's planes
-      for (double d : {dx, dz})
-        if (std::abs(d) > 1e-12) t1 = std::min(t1, 3.0 / std::abs(d));
-      const double length = std::max(0.0, t1 - t0);
-      irradiance += 2.0 * (1 - std::exp(-length)) * dy * std::sin(theta) * dt * dp;
-    }
-  }
+  // Irradiance at the origin from the glowing slab.
+  const double irradiance =
+      slabIrradiance([](double length) { return 2.0 * (1 - std::exp(-length)); });
   const double expected = 0.5 * irradiance / M_PI;
   const Pixel pcb = renderPixel(scene, "pcb");
   const Pixel mc = renderPixel(scene, "mc", 16384);
@@ -144,22 +153,8 @@ TEST(PointBasedMedia, SkyThroughAnAbsorbingSlabMatchesTheClosedForm) {
     "media": [{"type": "homogeneous", "min": [-3, 1, -3], "max": [3, 2, 3], "sigma_a": 1}],
     "volume_integrator": {"solver": "rk4", "step": 0.05},
     "pointcloud": {"lvoxel_spacing": 0.2, "gather_samples": 1024}})";
-  // Irradiance at the origin: midpoint rule over (theta, phi), as above.
-  double irradiance = 0.0;
-  const int nt = 400, np = 400;
-  for (int i = 0; i < nt; ++i) {
-    const double theta = (i + 0.5) / nt * M_PI / 2, dt = M_PI / 2 / nt;
-    for (int j = 0; j < np; ++j) {
-      const double phi = (j + 0.5) / np * 2 * M_PI, dp = 2 * M_PI / np;
-      const double dy = std::cos(theta), dx = std::sin(theta) * std::cos(phi),
-                   dz = std::sin(theta) * std::sin(phi);
-      double t0 = 1.0 / dy, t1 = 2.0 / dy;
-      for (double d : {dx, dz})
-        if (std::abs(d) > 1e-12) t1 = std::min(t1, 3.0 / std::abs(d));
-      const double length = std::max(0.0, t1 - t0);
-      irradiance += std::exp(-length) * dy * std::sin(theta) * dt * dp;
-    }
-  }
+  // Irradiance at the origin: the sky as the slab lets it through.
+  const double irradiance = slabIrradiance([](double length) { return std::exp(-length); });
   const double expected = 0.5 * irradiance / M_PI;
   const Pixel pcb = renderPixel(scene, "pcb");
   const Pixel mc = renderPixel(scene, "mc", 16384);
