@@ -91,8 +91,11 @@ void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& setti
                       what);
 }
 
+// `seeSky`: the rays that leave the cloud see the constant environment (its light is not
+// in the receivers' direct light then: PointBasedCache::environmentInGathers).
 GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
-                            const PointCloudSettings& settings, float spacing, int samples) {
+                            const PointCloudSettings& settings, float spacing, int samples,
+                            bool seeSky = false) {
   GatherOptions o;
   o.samples = samples;
   o.maxSolidAngle = settings.clusterSolidAngle;
@@ -102,9 +105,7 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   // (buried_surfels.h), so the offset need not skip them: half a spacing skipped real
   // nearby geometry too (4.02 % against 3.88 % delta on the atrium, docs/results.md).
   o.rayOffset = 0.25f * spacing;
-  // The environment's light is in the direct caches, unless the caller gives it to the
-  // gathers' escaping rays (PointBasedCache::environmentInGathers).
-  o.background = RGB(0.0f);
+  o.background = seeSky ? ctx.lights.environment() : RGB(0.0f);
   if (cache.lookup) {
     o.tracer = &ctx.tracer;
     o.lookup = cache.lookup.get();
@@ -307,9 +308,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   const int passes = settings.bounces;
   if (passes > 0) {
     PhaseTimer timer(report, "interreflection");
-    GatherOptions surfelOptions =
-        gatherOptions(ctx, cache, settings, spacing, settings.surfelGatherSamples);
-    if (cache.surfelEnvironmentInGathers) surfelOptions.background = ctx.lights.environment();
+    const GatherOptions surfelOptions =
+        gatherOptions(ctx, cache, settings, spacing, settings.surfelGatherSamples,
+                      cache.surfelEnvironmentInGathers);
     GatherOptions lvoxelOptions =
         gatherOptions(ctx, cache, settings, spacing, settings.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
@@ -338,8 +339,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   reportCloud(cache, spacing, report);
   if (settings.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
-    GatherOptions options = gatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
-    if (cache.environmentInGathers) options.background = ctx.lights.environment();
+    const GatherOptions options = gatherOptions(ctx, cache, settings, spacing,
+                                                settings.gatherSamples, cache.environmentInGathers);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
                                  settings.gatherFilter, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
@@ -360,9 +361,9 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                         const PointBasedCache& cache, const PointCloudSettings& settings, int spp,
                         SamplerCounters& counters) {
   const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
-  GatherOptions options =
-      gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
-  if (cache.environmentInGathers) options.background = ctx.lights.environment();
+  const GatherOptions options =
+      gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample,
+                    cache.environmentInGathers);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
   return [&ctx, &volume, &cache, &counters, options, atHits](int x, int y, Rng& rng,
                                                              SampleLayers* layers) {
