@@ -413,20 +413,11 @@ inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ra
 
 // Opens an inner node: its children the ray enters, pushed in child order (the order
 // fixes how the heap breaks ties, so it must not change).
-// Without `surfels` (lvoxels only), children that hold no lvoxels are not pushed: they
-// would only be popped to be passed over.
 inline void pushChildren(const PointCloud& pc, const TraversalNode& node, const SlabRay& slab,
-                         float tmax, bool surfels, TraversalHeap& heap) {
+                         float tmax, TraversalHeap& heap) {
   const OctreeChildren& block = pc.childBlocks()[node.ref & OctreeChildren::kIndexMask];
   alignas(32) float entry[8];
-  uint32_t wanted = 0xffu;
-  if (!surfels) {
-    wanted = 0;
-    for (int c = 0; c < OctreeChildren::kWidth; ++c)
-      if (block.ref[c] & OctreeChildren::kLvoxels) wanted |= 1u << c;
-  }
-  for (uint32_t hits = intersectChildren(block, slab, tmax, entry) & wanted; hits;
-       hits &= hits - 1) {
+  for (uint32_t hits = intersectChildren(block, slab, tmax, entry); hits; hits &= hits - 1) {
     const auto c = static_cast<uint32_t>(std::countr_zero(hits));
     pushEntry(heap, {entry[c], entry[c], entry[c], node.first + c, HitKind::Node, false});
   }
@@ -471,7 +462,7 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
         } else if (node.ref & OctreeChildren::kLeaf) {
           pushLeafElements(pc, node, ray, options.surfels, scratch);
         } else {
-          pushChildren(pc, node, slab, ray.tmax, options.surfels, heap);
+          pushChildren(pc, node, slab, ray.tmax, heap);
         }
         break;
       }
