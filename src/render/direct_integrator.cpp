@@ -17,10 +17,9 @@ void addSolveCounts(SamplerCounters& counters, const rte::SolveCounts& c) {
 
 PixelSampler directSampler(const RenderContext& ctx, const VolumeTransport& volume,
                            SamplerCounters& counters) {
-  return [&ctx, &volume, &counters](int x, int y, Rng& rng, SampleLayers* layers) {
+  return [&ctx, &volume, &counters](const PixelSample& s, Rng& rng, SampleLayers* layers) {
     const World& world = ctx.world;
-    const Ray ray = world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
-                                             static_cast<float>(y) + rng.uniform());
+    const Ray ray = world.camera.generateRay(s.filmX, s.filmY);
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     RGB environment(0.0f), emission(0.0f), direct(0.0f);

@@ -280,10 +280,9 @@ void tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray
 
 PixelSampler monteCarloSampler(const RenderContext& neeCtx, const MajorantTracker& tracker,
                                SamplerCounters& counters) {
-  return [&neeCtx, &tracker, &counters](int x, int y, Rng& rng, SampleLayers* layers) {
+  return [&neeCtx, &tracker, &counters](const PixelSample& s, Rng& rng, SampleLayers* layers) {
     PathCounters local;
-    const Ray ray = neeCtx.world.camera.generateRay(static_cast<float>(x) + rng.uniform(),
-                                                    static_cast<float>(y) + rng.uniform());
+    const Ray ray = neeCtx.world.camera.generateRay(s.filmX, s.filmY);
     PathParts parts;
     tracePath(neeCtx, tracker, ray, rng, local, parts, layers);
     if (layers) {

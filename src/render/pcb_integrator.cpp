@@ -365,11 +365,10 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample,
                     cache.environmentInGathers);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
-  return [&ctx, &volume, &cache, &counters, options, atHits](int x, int y, Rng& rng,
+  return [&ctx, &volume, &cache, &counters, options, atHits](const PixelSample& s, Rng& rng,
                                                              SampleLayers* layers) {
     const World& world = ctx.world;
-    const float px = static_cast<float>(x) + rng.uniform();
-    const float py = static_cast<float>(y) + rng.uniform();
+    const float px = s.filmX, py = s.filmY;
     const Ray ray = world.camera.generateRay(px, py);
     rte::SolveCounts solveCounts;
     SurfaceHit hit;

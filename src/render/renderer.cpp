@@ -43,9 +43,9 @@ PixelSampler meteredSampler(PixelSampler sampler, WorkBudget& work,
                             const std::atomic<uint64_t>& evaluations, uint64_t total) {
   auto done = std::make_shared<std::atomic<uint64_t>>(0);
   return [sampler = std::move(sampler), &work, &evaluations, total, done](
-             int x, int y, Rng& rng, SampleLayers* layers) -> RGB {
+             const PixelSample& s, Rng& rng, SampleLayers* layers) -> RGB {
     if (work.exhausted()) return RGB(0.0f);
-    const RGB v = sampler(x, y, rng, layers);
+    const RGB v = sampler(s, rng, layers);
     const uint64_t n = done->fetch_add(1, std::memory_order_relaxed) + 1;
     if (n % 256 == 0)
       work.project(evaluations.load(std::memory_order_relaxed), n, total, "the camera rays");

@@ -5,9 +5,24 @@
 
 #include <atomic>
 
+#include "src/core/low_discrepancy.h"
 #include "src/core/progress.h"
 
 namespace lvox {
+
+PixelSample pixelSample(uint64_t seed, int width, int x, int y, uint64_t sampleIndex) {
+  // SplitMix64's finaliser of (seed, pixel): scrambles unrelated to the samples' PCG
+  // streams, which mix the seed the other way round.
+  uint64_t h = static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
+  h = (h ^ (seed * 0xd1b54a32d192ed03ull)) + 0x9e3779b97f4a7c15ull;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  // The sequence repeats after 2^32 samples of one pixel.
+  const UnitPoint2 p = scrambledSobol2(static_cast<uint32_t>(sampleIndex), static_cast<uint32_t>(h),
+                                       static_cast<uint32_t>(h >> 32));
+  return {x, y, static_cast<float>(x) + p.u, static_cast<float>(y) + p.v};
+}
 
 void accumulateTiles(Film& film, uint64_t firstSample, int count, uint64_t seed,
                      const PixelSampler& sample, TileStats& stats) {
@@ -29,32 +44,34 @@ void accumulateRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample, 
   const int rows = rowEnd - rowBegin;
   const bool layered = film.hasLayers();
   std::atomic<uint64_t> invalid{0};
-  tbb::parallel_for(tbb::blocked_range2d<int>(rowBegin, rowEnd, kTile, 0, width, kTile),
-                    [&](const tbb::blocked_range2d<int>& tile) {
-                      uint64_t tileInvalid = 0;
-                      for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
-                        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
-                          RGB acc(0.0f);
-                          PixelLayerSums layerSums{};
-                          for (int s = 0; s < count; ++s) {
-                            Rng rng = sampleRng(seed, width, x, y,
-                                                firstSample + static_cast<uint64_t>(s));
-                            SampleLayers layers;
-                            const RGB v = sample(x, y, rng, layered ? &layers : nullptr);
-                            if (!validRadiance(v) || (layered && !film.finite(layers))) {
-                              ++tileInvalid;
-                              continue;
-                            }
-                            acc += v;
-                            if (layered) film.addSample(layerSums, v, layers);
-                          }
-                          film.beauty.at(x, y) += acc;
-                          if (layered) film.addPixel(x, y, layerSums);
-                        }
-                      invalid += tileInvalid;
-                      Progress::global().advance(static_cast<uint64_t>(tile.rows().size()) *
-                                                 tile.cols().size() * static_cast<uint64_t>(count));
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(rowBegin, rowEnd, kTile, 0, width, kTile),
+      [&](const tbb::blocked_range2d<int>& tile) {
+        uint64_t tileInvalid = 0;
+        for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
+          for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+            RGB acc(0.0f);
+            PixelLayerSums layerSums{};
+            for (int s = 0; s < count; ++s) {
+              Rng rng = sampleRng(seed, width, x, y, firstSample + static_cast<uint64_t>(s));
+              const PixelSample at =
+                  pixelSample(seed, width, x, y, firstSample + static_cast<uint64_t>(s));
+              SampleLayers layers;
+              const RGB v = sample(at, rng, layered ? &layers : nullptr);
+              if (!validRadiance(v) || (layered && !film.finite(layers))) {
+                ++tileInvalid;
+                continue;
+              }
+              acc += v;
+              if (layered) film.addSample(layerSums, v, layers);
+            }
+            film.beauty.at(x, y) += acc;
+            if (layered) film.addPixel(x, y, layerSums);
+          }
+        invalid += tileInvalid;
+        Progress::global().advance(static_cast<uint64_t>(tile.rows().size()) * tile.cols().size() *
+                                   static_cast<uint64_t>(count));
+      });
   stats.samples += static_cast<uint64_t>(width) * rows * static_cast<uint64_t>(count);
   stats.invalidSamples += invalid.load();
 }
