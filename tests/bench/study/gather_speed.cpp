@@ -16,7 +16,12 @@
 //                             at it (traceGatherRay; the delta lights' shadow rays at the
 //                             hit are light, not traversal, and left out). Its ratio is
 //                             the gather's rate against a bare Embree ray's.
-//   lvoxel gathers (disks)    sphere rays from lvoxel centres, as the lvoxel gathers
+//   lvoxel gathers (disks)    sphere rays from lvoxel centres with the cloud's own
+//                             visibility
+//   lvoxel gathers (lvoxels)  the same rays, the octree part of ray-traced visibility:
+//                             lvoxels only up to Embree's hit
+//   lvoxel gathers (traced)   the same rays as the lvoxel gathers trace them by default
+//                             (ray-traced visibility)
 // Columns: rays/s of each (millions), their ratio, traversal work per ray (nodes popped +
 // elements tested), the share of rays the exact heap traversal took (see traversal.h).
 // Embree traces each workload's rays with RayTracer::intersect (rtcIntersect1). Times are
@@ -268,8 +273,18 @@ void runScene(const std::string& path, const Args& args) {
   }
   workloads.push_back({"surfel gathers (traced)", Kind::Traced, workloads[0].rays});
   if (cloud.lvoxels().size() > 0) {
-    workloads.push_back(
-        {"lvoxel gathers (disks)", Kind::Disks, lvoxelGatherRays(cloud.lvoxels(), args.rays)});
+    Workload disks{"lvoxel gathers (disks)", Kind::Disks,
+                   lvoxelGatherRays(cloud.lvoxels(), args.rays)};
+    Workload lvoxels{"lvoxel gathers (lvoxels)", Kind::LvoxelsOnly, disks.rays};
+    for (Ray& r : lvoxels.rays) {
+      r.tmin = 4.0f * tracer.epsilon();
+      SurfaceHit hit;
+      r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
+    }
+    Workload traced{"lvoxel gathers (traced)", Kind::Traced, disks.rays};
+    workloads.push_back(std::move(disks));
+    workloads.push_back(std::move(lvoxels));
+    workloads.push_back(std::move(traced));
   }
 
   std::printf(
