@@ -50,11 +50,20 @@ inline float fixedPointToUnit(uint32_t v) { return static_cast<float>(v >> 8) * 
 struct UnitPoint2 {
   float u, v;
 };
+struct FixedPoint2 {
+  uint32_t u, v;  // 32-bit fixed point in [0, 1)
+};
 
-// Point `index` of the sequence scrambled by (seedU, seedV).
+// Point `index` of the sequence scrambled by (seedU, seedV), in 32-bit fixed point: for a
+// caller that splits a coordinate further (LightSet picks an emitter with it, then uses
+// where it fell in the emitter's share).
+inline FixedPoint2 scrambledSobol2Fixed(uint32_t index, uint32_t seedU, uint32_t seedV) {
+  return {owenScramble(sobolDimension0(index), seedU), owenScramble(sobolDimension1(index), seedV)};
+}
+// The same point in floats.
 inline UnitPoint2 scrambledSobol2(uint32_t index, uint32_t seedU, uint32_t seedV) {
-  return {fixedPointToUnit(owenScramble(sobolDimension0(index), seedU)),
-          fixedPointToUnit(owenScramble(sobolDimension1(index), seedV))};
+  const FixedPoint2 p = scrambledSobol2Fixed(index, seedU, seedV);
+  return {fixedPointToUnit(p.u), fixedPointToUnit(p.v)};
 }
 
 }  // namespace lvox

@@ -46,16 +46,25 @@ LightSample LightSet::sampleDelta(const Light& light, const Vec3& p) const {
 }
 
 LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
+  const uint32_t u = rng.next(), v = rng.next();
+  return sampleArea(p, FixedPoint2{u, v});
+}
+
+LightSample LightSet::sampleArea(const Vec3& p, FixedPoint2 point) const {
   LightSample s;
-  const float u = rng.uniform();
+  // In double: 32 bits of u, so that where it fell in a small triangle's share still has
+  // bits to spare.
+  const double u = static_cast<double>(point.u) * 0x1p-32;
   const size_t i = std::min<size_t>(
       static_cast<size_t>(std::lower_bound(areaCdf_.begin(), areaCdf_.end(), u) - areaCdf_.begin()),
       emissiveTriangles_.size() - 1);
+  const double lo = i > 0 ? areaCdf_[i - 1] : 0.0, hi = areaCdf_[i];
+  const double within = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0, 1.0 - 0x1p-24) : 0.5;
   const uint32_t tri = emissiveTriangles_[i];
   const TriangleMesh& mesh = world_.mesh;
   const Vec3 a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
   float b1, b2;
-  uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
+  uniformTriangle(static_cast<float>(within), fixedPointToUnit(point.v), b1, b2);
   const Vec3 q = a * (1.0f - b1 - b2) + b * b1 + c * b2;
   const Vec3 toLight = q - p;
   const float d2 = dot(toLight, toLight);

@@ -3,6 +3,7 @@
 // environment lights from the scene file, and area lights made of emissive triangles.
 #include <vector>
 
+#include "src/core/low_discrepancy.h"
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
 #include "src/world/world.h"
@@ -60,6 +61,10 @@ class LightSet {
   LightSample sampleDelta(const Light& light, const Vec3& p) const;
   // A uniform-by-area sample of the emissive triangles, seen from p.
   LightSample sampleArea(const Vec3& p, Rng& rng) const;
+  // The same from a point of the unit square (32-bit fixed point): u picks the triangle
+  // by area, and where it fell in that triangle's share, with v, the point on it, so that
+  // stratified points stay stratified over the emitters' whole area.
+  LightSample sampleArea(const Vec3& p, FixedPoint2 point) const;
   // Solid-angle pdf with which sampleArea picks a point seen at `distance` under `cosLight`.
   float areaPdf(float distance, float cosLight) const {
     return distance * distance / (std::max(cosLight, 1e-8f) * totalArea_);
@@ -84,14 +89,27 @@ void LightSet::forEachDeltaSample(const Vec3& p, F&& f) const {
   }
 }
 
+// The N samples of one light in one call are the first N points of an Owen-scrambled
+// (0,2)-sequence, scrambled afresh for the call and the light (low_discrepancy.h): each is
+// uniform, and together they are stratified over the light's domain (exactly, when N is a
+// power of two). 16 such samples of an emitter's irradiance, or of a sky seen through a
+// window, are 0.34-0.40 as noisy as 16 independent ones (tests/render/test_light_strata.cpp).
 template <class F>
 void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&& f,
                                  bool constantEnvironment) const {
   const float weight = 1.0f / static_cast<float>(areaSamples_);
+  const auto scrambled = [&rng] {
+    const uint32_t seedU = rng.next(), seedV = rng.next();
+    return [seedU, seedV](int i) {
+      return scrambledSobol2Fixed(static_cast<uint32_t>(i), seedU, seedV);
+    };
+  };
   if (constantEnvironment && !isBlack(environment_)) {
+    const auto points = scrambled();
     for (int i = 0; i < areaSamples_; ++i) {
       LightSample s;
-      const float u1 = rng.uniform(), u2 = rng.uniform();
+      const FixedPoint2 q = points(i);
+      const float u1 = fixedPointToUnit(q.u), u2 = fixedPointToUnit(q.v);
       if (normal) {
         // Cosine sampling: pdf = cos/pi, so radiance/pdf = L pi / cos; the caller's cos
         // cancels it.
@@ -107,9 +125,11 @@ void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&
     }
   }
   if (map_) {
+    const auto points = scrambled();
     for (int i = 0; i < areaSamples_; ++i) {
       LightSample s;
-      const float u1 = rng.uniform(), u2 = rng.uniform();
+      const FixedPoint2 q = points(i);
+      const float u1 = fixedPointToUnit(q.u), u2 = fixedPointToUnit(q.v);
       s.wi = map_->sample(u1, u2, s.pdf);
       if (!(s.pdf > 0.0f)) continue;
       s.radiance = map_->radiance(s.wi) * (weight / s.pdf);
@@ -118,8 +138,9 @@ void LightSet::forEachAreaSample(const Vec3& p, const Vec3* normal, Rng& rng, F&
     }
   }
   if (!emissiveTriangles_.empty()) {
+    const auto points = scrambled();
     for (int i = 0; i < areaSamples_; ++i) {
-      LightSample s = sampleArea(p, rng);
+      LightSample s = sampleArea(p, points(i));
       if (!isBlack(s.radiance)) {
         s.radiance *= weight;
         f(s);
