@@ -38,9 +38,9 @@ inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleInde
 
 // Where sample `sampleIndex` of pixel (x, y) lies: point sampleIndex of an Owen-scrambled
 // (0,2)-sequence with the pixel's own scramble (low_discrepancy.h). A pixel's 4 samples
-// cover its 2 x 2 quarters, its 16 its 4 x 4 sixteenths, and so on, where independent
-// positions left edges and textures twice as noisy at 4 spp (docs/results.md,
-// "Stratified pixel samples"). The scramble depends on the seed, so seeds stay independent.
+// cover its 2 x 2 quarters, its 16 its 4 x 4 sixteenths, and so on. Independent positions
+// left the direct light of textured Sponza at 4 spp twice as noisy (docs/results.md,
+// "Stratified samples"). The scramble depends on the seed, so seeds stay independent.
 PixelSample pixelSample(uint64_t seed, int width, int x, int y, uint64_t sampleIndex);
 
 // Adds samples [firstSample, firstSample + count) of every pixel to the film (unnormalised),
