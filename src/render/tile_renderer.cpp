@@ -11,13 +11,11 @@
 namespace lvox {
 
 PixelSample pixelSample(uint64_t seed, int width, int x, int y, uint64_t sampleIndex) {
-  // SplitMix64's finaliser of (seed, pixel): scrambles unrelated to the samples' PCG
-  // streams, which mix the seed the other way round.
-  uint64_t h = static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
-  h = (h ^ (seed * 0xd1b54a32d192ed03ull)) + 0x9e3779b97f4a7c15ull;
-  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
-  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
-  h ^= h >> 31;
+  // Scrambles from (seed, pixel), unrelated to the samples' PCG streams, which mix the
+  // seed the other way round.
+  const uint64_t pixel =
+      static_cast<uint64_t>(y) * static_cast<uint64_t>(width) + static_cast<uint64_t>(x);
+  const uint64_t h = splitMix64(pixel ^ (seed * 0xd1b54a32d192ed03ull));
   // The sequence repeats after 2^32 samples of one pixel.
   const UnitPoint2 p = scrambledSobol2(static_cast<uint32_t>(sampleIndex), static_cast<uint32_t>(h),
                                        static_cast<uint32_t>(h >> 32));

@@ -145,6 +145,16 @@ std::vector<Ray> lvoxelGatherRays(const LvoxelSet& l, size_t count) {
   return rays;
 }
 
+// The octree part of ray-traced visibility: each ray from a few tracer epsilons (as
+// traceGatherRay starts it) to Embree's hit.
+void endAtEmbreesHit(std::vector<Ray>& rays, const RayTracer& tracer) {
+  for (Ray& r : rays) {
+    r.tmin = 4.0f * tracer.epsilon();
+    SurfaceHit hit;
+    r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
+  }
+}
+
 double threadSeconds() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -264,11 +274,7 @@ void runScene(const std::string& path, const Args& args) {
   if (cloud.lvoxels().size() > 0) {
     // Ray-traced visibility: the octree for the lvoxels in front of Embree's hit.
     Workload traced{"surfel gathers (lvoxels)", Kind::LvoxelsOnly, workloads[0].rays};
-    for (Ray& r : traced.rays) {
-      r.tmin = 4.0f * tracer.epsilon();
-      SurfaceHit hit;
-      r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
-    }
+    endAtEmbreesHit(traced.rays, tracer);
     workloads.push_back(std::move(traced));
   }
   workloads.push_back({"surfel gathers (traced)", Kind::Traced, workloads[0].rays});
@@ -276,11 +282,7 @@ void runScene(const std::string& path, const Args& args) {
     Workload disks{"lvoxel gathers (disks)", Kind::Disks,
                    lvoxelGatherRays(cloud.lvoxels(), args.rays)};
     Workload lvoxels{"lvoxel gathers (lvoxels)", Kind::LvoxelsOnly, disks.rays};
-    for (Ray& r : lvoxels.rays) {
-      r.tmin = 4.0f * tracer.epsilon();
-      SurfaceHit hit;
-      r.tmax = tracer.intersect(r, hit) ? hit.t : kInf;
-    }
+    endAtEmbreesHit(lvoxels.rays, tracer);
     Workload traced{"lvoxel gathers (traced)", Kind::Traced, disks.rays};
     workloads.push_back(std::move(disks));
     workloads.push_back(std::move(lvoxels));
