@@ -4,8 +4,10 @@
 // that order, so element indices change: use the cloud's own sets after construction.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "pointcloud/lvoxel_lattice.h"
 #include "pointcloud/lvoxels.h"
 #include "pointcloud/octree_node.h"
 #include "pointcloud/surfel_cluster.h"
@@ -77,6 +79,11 @@ class PointCloud {
     return (flags & DiskElement::kClipped) ? clips_[flags >> DiskElement::kClipShift] : kNone;
   }
   const std::vector<CubeElement>& cubes() const { return cubes_; }
+  // The cubes as one lattice's cells, for lvoxel-only rays (null when they are not on one).
+  const LvoxelLattice* lvoxelLattice() const { return lattice_ ? &*lattice_ : nullptr; }
+  // How far from a ray's origin no lvoxel cluster can be used when clusters are used below
+  // `maxSolidAngle` (TraversalOptions): within it the traversal visits every lvoxel.
+  float lvoxelClusterFreeReach(float maxSolidAngle) const;
   // The root as the nearest-disk search starts from it (a WideChildren reference).
   uint32_t searchRoot(uint32_t& surfelEnd) const;
   // True while the layout's child bounds equal the nodes' (tests: updates keep them).
@@ -120,6 +127,8 @@ class PointCloud {
   std::vector<TraversalNode> traversalNodes_;
   std::vector<DiskClip> clips_;  // the cuts of the disks that have one
   std::vector<CubeElement> cubes_;
+  std::optional<LvoxelLattice> lattice_;
+  float minLvoxelClusterRadius_ = kInf;  // of the nodes that hold lvoxels and may cluster
 };
 
 }  // namespace lvox

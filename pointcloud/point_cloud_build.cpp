@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -331,6 +332,23 @@ void PointCloud::buildTraversalLayout() {
   cubes_.resize(lvoxels_.size());
   for (size_t i = 0; i < lvoxels_.size(); ++i)
     cubes_[i] = {lvoxels_.position[i], lvoxels_.halfSize[i]};
+  lattice_ = LvoxelLattice::of(cubes_);
+  // useCluster's radius, as it computes it, of every node it could make a cluster of on
+  // an lvoxel-only ray (with lvoxels, more than one element): the bounds are final here.
+  minLvoxelClusterRadius_ = kInf;
+  for (const OctreeNode& node : nodes_)
+    if (node.lvoxelEnd > node.lvoxelBegin && node.elementCount() > 1)
+      minLvoxelClusterRadius_ =
+          std::min(minLvoxelClusterRadius_, std::sqrt(0.25f * node.bounds.diagonal().length2()));
+}
+
+float PointCloud::lvoxelClusterFreeReach(float maxSolidAngle) const {
+  if (!(maxSolidAngle > 0.0f)) return kInf;
+  // A node of radius r is a cluster only when its centre is farther than k r from the
+  // origin (useCluster: d > 2 r and pi r^2 < maxSolidAngle d^2), so every point of it is
+  // farther than (k - 1) r; the factor leaves room for useCluster's roundings.
+  const float k = std::max(2.0f, std::sqrt(kPi / maxSolidAngle));
+  return (k - 1.0f) * minLvoxelClusterRadius_ * 0.9999f;
 }
 
 uint32_t PointCloud::searchRoot(uint32_t& surfelEnd) const {
@@ -355,7 +373,7 @@ PointCloudMemory PointCloud::memory() const {
 size_t PointCloud::traversalBytes() const {
   return childBlocks_.size() * sizeof(OctreeChildren) + wideBlocks_.size() * sizeof(WideChildren) +
          traversalNodes_.size() * sizeof(TraversalNode) + clips_.size() * sizeof(DiskClip) +
-         cubes_.size() * sizeof(CubeElement);
+         cubes_.size() * sizeof(CubeElement) + (lattice_ ? lattice_->memoryBytes() : 0);
 }
 
 }  // namespace lvox

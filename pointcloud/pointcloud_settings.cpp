@@ -27,6 +27,10 @@ SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& f
 
 std::string_view surfelSamplerName(SurfelSamplerKind s) { return nameOf(s, kSamplerNames); }
 
+float defaultLvoxelClusterSolidAngle(GatherVisibility v) {
+  return v == GatherVisibility::kCloud ? 0.03f : 0.0f;
+}
+
 PointCloudSettings parsePointCloudSettings(JsonObject p) {
   PointCloudSettings s;
   s.surfelSpacing = p.number("surfel_spacing", 0.0f, 1e9f, s.surfelSpacing);
@@ -45,8 +49,8 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
   s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
-  s.lvoxelClusterSolidAngle =
-      p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi, s.lvoxelClusterSolidAngle);
+  s.lvoxelClusterSolidAngle = p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi,
+                                       defaultLvoxelClusterSolidAngle(s.gatherVisibility));
   s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
   p.finish();
   return s;

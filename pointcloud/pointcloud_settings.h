@@ -25,13 +25,18 @@ struct PointCloudSettings {
   int bounces = 24;              // interreflection passes (surfels and lvoxels)
   float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
-  int surfelGatherSamples = 4;            // hemisphere rays per surfel side and pass
-  int gatherSamples = 64;                 // gather rays per pixel (split over its samples)
-  int gatherSpacing = 4;                  // pixels between final gathers; 1: every camera hit
-  float gatherFilter = 3.0f;              // tent half-width over final gathers, in gathers
-  float lvoxelClusterSolidAngle = 0.03f;  // sr; the same for nodes holding lvoxels only
-  float clusterSolidAngle = 0.0f;         // sr; 0 = every element exactly
+  int surfelGatherSamples = 4;           // hemisphere rays per surfel side and pass
+  int gatherSamples = 64;                // gather rays per pixel (split over its samples)
+  int gatherSpacing = 4;                 // pixels between final gathers; 1: every camera hit
+  float gatherFilter = 3.0f;             // tent half-width over final gathers, in gathers
+  float lvoxelClusterSolidAngle = 0.0f;  // sr, lvoxel-only nodes; defaultLvoxelClusterSolidAngle
+  float clusterSolidAngle = 0.0f;        // sr; 0 = every element exactly
 };
+
+// With `rays` visibility 0: gather rays then want the lvoxels only, and marching them
+// through the lvoxel lattice visits every one faster than the octree's clusters stood for
+// the far ones (docs/pointcloud.md). With `cloud` visibility 0.03 sr.
+float defaultLvoxelClusterSolidAngle(GatherVisibility v);
 
 // Reads the "pointcloud" object; unknown keys and out-of-range values throw.
 PointCloudSettings parsePointCloudSettings(JsonObject p);

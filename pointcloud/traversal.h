@@ -19,6 +19,8 @@
 // float operations as the original one-box, one-disk tests, so the visits are
 // bit-identical to the original heap traversal's (tests/pointcloud/
 // test_traversal_exact.cpp keeps that traversal and compares on random and lattice rays).
+// Rays that want the lvoxels only march through the lvoxels' lattice instead
+// (traverseLvoxelLattice below), handing over to the heap where clusters could start.
 //
 // Visitor interface (no virtual calls):
 //   void surfel(uint32_t i, float t, bool front);       // opaque, ends traversal
@@ -63,6 +65,8 @@ struct TraversalStats {
   uint64_t elementsVisited = 0;
   uint64_t nearestDiskRays = 0;  // rays answered by the depth-first nearest-disk search
   uint64_t heapRays = 0;         // rays traversed by the heap (after the search or instead)
+  uint64_t latticeRays = 0;      // lvoxel-only rays marched through the lvoxel lattice
+  uint64_t cellsMarched = 0;     // the lattice cells with cubes they visited
 };
 
 enum class HitKind : uint8_t { Node, Surfel, Lvoxel, SurfelCluster, LvoxelCluster };
@@ -367,8 +371,10 @@ inline void pushClusters(const PointCloud& pc, uint32_t n, float entry, const Ra
 // hits in element order; each disk hit shrinks tmax for the disks after it, exactly as
 // the one-by-one loop did (a 4-wide test uses the tmax at its start, and every lane is
 // checked against the current tmax before it is pushed).
+// `marchedToTmin`: the lvoxels the ray enters before ray.tmin were visited already (by the
+// lattice march, which hands over at tmin), so cubes entered at or before it are passed.
 inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ray& ray,
-                             bool surfels, TraversalScratch& s) {
+                             bool surfels, bool marchedToTmin, TraversalScratch& s) {
   const DiskElement* disks = pc.disks().data();
   const uint32_t begin = leaf.ref & OctreeChildren::kIndexMask,
                  end = surfels ? leaf.surfelEnd : begin;
@@ -406,7 +412,9 @@ inline void pushLeafElements(const PointCloud& pc, const TraversalNode& leaf, Ra
   for (uint32_t i = lvoxelBegin; i < leaf.lvoxelEnd; ++i) {
     ++s.stats.elementsTested;
     float t0, t1;
-    if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1))
+    // t0 is max(tmin, the cube's entry): equal to tmin when the cube starts before it.
+    if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1) &&
+        !(marchedToTmin && t0 == ray.tmin))
       pushEntry(s.queue, {t0, t0, t1, i, HitKind::Lvoxel, false});
   }
 }
@@ -438,7 +446,7 @@ struct ClusterAngles {
 
 template <class Visitor>
 void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const TraversalOptions& options,
-                  TraversalScratch& scratch) {
+                  TraversalScratch& scratch, bool marchedToTmin = false) {
   ++scratch.stats.heapRays;
   TraversalHeap& heap = scratch.queue;
   heap.clear();
@@ -460,7 +468,7 @@ void traverseHeap(const PointCloud& pc, Ray ray, Visitor& visitor, const Travers
         if (clusters.possible(node.ref) && useCluster(nodes[e.id], ray, options)) {
           pushClusters(pc, e.id, e.key, ray, options.surfels, heap);
         } else if (node.ref & OctreeChildren::kLeaf) {
-          pushLeafElements(pc, node, ray, options.surfels, scratch);
+          pushLeafElements(pc, node, ray, options.surfels, marchedToTmin, scratch);
         } else {
           pushChildren(pc, node, slab, ray.tmax, heap);
         }
@@ -703,12 +711,58 @@ bool nearestDisk(const PointCloud& pc, const Ray& ray, Visitor& visitor, Travers
   return true;
 }
 
+// ---- Lvoxel-only rays: the lattice march ----
+//
+// A ray that wants the lvoxels only (TraversalOptions::surfels false) visits every lvoxel
+// it crosses where no cluster stands for it, and those cubes tile one lattice: a 3D-DDA
+// over its cells finds them in order without the heap, which pushed and popped each one.
+// Clusters are used only beyond PointCloud::lvoxelClusterFreeReach, so the march covers
+// the cubes entered up to that reach and the heap the rest, from the reach on: the visits
+// are the heap's, each cube's chord computed by the same intersectCube. What can differ
+// is the order among cubes entered at the same distance (the heap's order among equal
+// keys; the march takes a cell's cubes in index order) and cubes the ray crosses only
+// within a rounding (tests/pointcloud/test_traversal_exact.cpp).
+template <class Visitor>
+void traverseLvoxelLattice(const PointCloud& pc, const Ray& ray, Visitor& visitor,
+                           const TraversalOptions& options, TraversalScratch& scratch) {
+  ++scratch.stats.latticeRays;
+  const float reach =
+      pc.lvoxelClusterFreeReach(std::max(options.maxSolidAngle, options.maxLvoxelSolidAngle));
+  const bool marched = reach >= ray.tmin;
+  if (marched) {
+    const CubeElement* cubes = pc.cubes().data();
+    TraversalStats& stats = scratch.stats;
+    // Cells entered a little past the reach may hold cubes entered at it (roundings).
+    const bool go = pc.lvoxelLattice()->march(ray, reach * 1.0001f, [&](const uint32_t* list) {
+      ++stats.cellsMarched;
+      for (;; ++list) {
+        const uint32_t i = *list & LvoxelLattice::kIndexMask;
+        ++stats.elementsTested;
+        float t0, t1;
+        if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1) && t0 <= reach) {
+          ++stats.elementsVisited;
+          if (!visitor.lvoxel(i, t0, t1)) return false;
+        }
+        if (*list & LvoxelLattice::kLastInCell) return true;
+      }
+    });
+    if (!go || !(reach < ray.tmax)) return;
+  }
+  Ray beyond = ray;
+  beyond.tmin = std::max(ray.tmin, reach);
+  traverseHeap(pc, beyond, visitor, options, scratch, marched);
+}
+
 }  // namespace detail
 
 template <class Visitor>
 void traverse(const PointCloud& pc, const Ray& ray, Visitor& visitor,
               const TraversalOptions& options, TraversalScratch& scratch) {
   if (pc.empty()) return;
+  if (!options.surfels && pc.lvoxelLattice()) {
+    detail::traverseLvoxelLattice(pc, ray, visitor, options, scratch);
+    return;
+  }
   // Surfel clusters would be visited before the first disk: only the heap handles them.
   if (options.surfels && !(options.maxSolidAngle > 0.0f) &&
       detail::nearestDisk(pc, ray, visitor, scratch.stats))

@@ -4,6 +4,7 @@
 // ties (coplanar disks on axis-aligned lattices hit at the same t).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdio>
 #include <vector>
@@ -45,8 +46,30 @@ struct CallLog {
   }
 };
 
+// Coincident cubes (media overlapping in one cell) are entered at the same distance: the
+// lattice march visits them in index order, the heap in its own order among equal keys.
+// Runs of such visits are put in index order; the last run, when the visitor stopped the
+// ray, keeps only its distances (which of the cell's cubes came before the stop is the
+// order's to say).
+void orderCoincidentCubes(std::vector<Call>& calls, bool stopped) {
+  auto same = [](const Call& x, const Call& y) {
+    return x.kind == HitKind::Lvoxel && y.kind == HitKind::Lvoxel && x.a == y.a && x.b == y.b;
+  };
+  for (size_t begin = 0; begin < calls.size();) {
+    size_t end = begin + 1;
+    while (end < calls.size() && same(calls[begin], calls[end])) ++end;
+    std::sort(calls.begin() + static_cast<std::ptrdiff_t>(begin),
+              calls.begin() + static_cast<std::ptrdiff_t>(end),
+              [](const Call& x, const Call& y) { return x.id < y.id; });
+    if (stopped && end == calls.size() && calls[begin].kind == HitKind::Lvoxel)
+      for (size_t i = begin; i < end; ++i) calls[i].id = 0;
+    begin = end;
+  }
+}
+
 struct Counts {
-  size_t rays = 0, nearestDisk = 0, heap = 0, surfelHits = 0, lvoxelVisits = 0;
+  size_t rays = 0, nearestDisk = 0, heap = 0, lattice = 0, surfelHits = 0, lvoxelVisits = 0;
+  size_t latticeClusterVisits = 0;  // lvoxel clusters visited on rays that marched first
 };
 
 // Traces `ray` both ways and compares; returns false (with a message) on a difference.
@@ -61,7 +84,14 @@ struct Counts {
   ++n.rays;
   n.nearestDisk += fast.stats.nearestDiskRays - before.nearestDiskRays;
   n.heap += fast.stats.heapRays - before.heapRays;
+  n.lattice += fast.stats.latticeRays - before.latticeRays;
+  if (!o.surfels && pc.lvoxelLattice()) {
+    const bool stopped = stopAt > 0 && static_cast<int>(b.calls.size()) == stopAt;
+    orderCoincidentCubes(a.calls, stopped);
+    orderCoincidentCubes(b.calls, stopped);
+  }
   for (const Call& c : b.calls) {
+    n.latticeClusterVisits += c.kind == HitKind::LvoxelCluster && !o.surfels && pc.lvoxelLattice();
     n.surfelHits += c.kind == HitKind::Surfel;
     n.lvoxelVisits += c.kind == HitKind::Lvoxel || c.kind == HitKind::LvoxelCluster;
   }
@@ -86,7 +116,9 @@ struct Counts {
 }
 
 // Random disks and cubes of varying size in [0,1]^3, some coincident, some axis-aligned.
-PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels) {
+// `onLattice`: the cubes are cells of one lattice (lvoxel-only rays march through it),
+// some cells holding two or three (overlapping media); else half of them overlap.
+PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels, bool onLattice = false) {
   Rng rng(seed, 0);
   auto point = [&] { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()); };
   SurfelSet s;
@@ -104,7 +136,10 @@ PointCloud randomCloud(uint64_t seed, size_t surfels, size_t lvoxels) {
   for (size_t i = 0; i < lvoxels; ++i) {
     // On a grid of spacing 0.04 (faces shared exactly), in a slab of the cube.
     const auto g = [&] { return (std::floor(rng.uniform() * 25.0f) + 0.5f) * 0.04f; };
-    l.position[i] = Vec3(g(), g(), 0.5f + 0.5f * g());
+    const float z =
+        onLattice ? 0.5f + (std::floor(rng.uniform() * 12.0f) + 0.5f) * 0.04f : 0.5f + 0.5f * g();
+    const float y = g();
+    l.position[i] = Vec3(g(), y, z);
     l.halfSize[i] = 0.02f;
     l.sigmaA[i] = RGB(0.1f);
     l.sigmaS[i] = RGB(rng.uniform());
@@ -131,8 +166,9 @@ const TraversalOptions kOptions[] = {
 };
 
 TEST(TraversalExact, RandomCloudMatchesTheHeapTraversal) {
-  for (uint64_t seed : {1u, 2u}) {
-    const PointCloud pc = randomCloud(seed, 4000, seed == 1 ? 0 : 3000);
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    const PointCloud pc = randomCloud(seed, 4000, seed == 1 ? 0 : 3000, seed == 3);
+    ASSERT_EQ(pc.lvoxelLattice() != nullptr, seed == 3);
     Rng rng(seed, 7);
     TraversalScratch fast, ref;
     Counts n;
@@ -143,14 +179,18 @@ TEST(TraversalExact, RandomCloudMatchesTheHeapTraversal) {
         ASSERT_TRUE(sameVisits(pc, ray, o, stopAt, fast, ref, n)) << "seed " << seed;
     }
     std::printf(
-        "seed %llu: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu "
+        "seed %llu: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu marched, %zu "
         "surfel hits, %zu lvoxel visits\n",
-        static_cast<unsigned long long>(seed), n.rays, n.nearestDisk, n.heap, n.surfelHits,
-        n.lvoxelVisits);
+        static_cast<unsigned long long>(seed), n.rays, n.nearestDisk, n.heap, n.lattice,
+        n.surfelHits, n.lvoxelVisits);
     EXPECT_GT(n.nearestDisk, n.rays / 10);
     EXPECT_GT(n.surfelHits, n.rays / 10);
-    if (seed == 2) {
+    if (seed >= 2) {
       EXPECT_GT(n.lvoxelVisits, n.rays);
+    }
+    if (seed == 3) {
+      EXPECT_GT(n.lattice, n.rays / 3);  // the two lvoxel-only options of kOptions' five
+      EXPECT_GT(n.latticeClusterVisits, n.rays / 10);  // the heap took over from the march
     }
   }
 }
@@ -181,13 +221,15 @@ TEST(TraversalExact, LatticeGathersMatchTheHeapTraversal) {
         ASSERT_TRUE(sameVisits(pc, ray, o, -1, fast, ref, n)) << "fog " << withFog;
     }
     std::printf(
-        "fog %d: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu surfel "
-        "hits, %zu lvoxel visits\n",
-        withFog, n.rays, n.nearestDisk, n.heap, n.surfelHits, n.lvoxelVisits);
+        "fog %d: %zu rays, %zu by the nearest-disk search, %zu by the heap, %zu marched, %zu "
+        "surfel hits, %zu lvoxel visits\n",
+        withFog, n.rays, n.nearestDisk, n.heap, n.lattice, n.surfelHits, n.lvoxelVisits);
     EXPECT_GT(n.nearestDisk, n.rays / 5);
     EXPECT_GT(n.surfelHits, n.rays / 5);  // half the rays leave the room from its outside
     if (withFog) {
       EXPECT_GT(n.lvoxelVisits, n.rays / 10);
+      EXPECT_GT(n.lattice, n.rays / 3);
+      EXPECT_GT(n.latticeClusterVisits, 0u);
     }
   }
 }

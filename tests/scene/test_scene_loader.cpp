@@ -96,6 +96,22 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.gather_visibility", "exact"});
 }
 
+// Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
+// than the clusters were), disk visibility keeps them; a given value holds for both.
+TEST(SceneLoader, LvoxelClustersDefaultByVisibility) {
+  auto angle = [](const std::string& settings) {
+    const std::string text =
+        withField("\"lights\"", "\"pointcloud\": {" + settings + "}, \"lights\"");
+    return parseScene(text, "/tmp/scene.json").pointcloud.lvoxelClusterSolidAngle;
+  };
+  EXPECT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.lvoxelClusterSolidAngle, 0.0f);
+  EXPECT_EQ(angle(""), 0.0f);
+  EXPECT_EQ(angle("\"gather_visibility\": \"rays\""), 0.0f);
+  EXPECT_EQ(angle("\"gather_visibility\": \"cloud\""), 0.03f);
+  EXPECT_EQ(angle("\"gather_visibility\": \"cloud\", \"lvoxel_cluster_solid_angle\": 0"), 0.0f);
+  EXPECT_EQ(angle("\"lvoxel_cluster_solid_angle\": 0.05"), 0.05f);
+}
+
 TEST(SceneLoader, UnknownKeysAreErrors) {
   expectError(withField("\"vfov_deg\"", "\"vfov\": 3, \"vfov_deg\""), {"camera.vfov", "unknown"});
   expectError(withField("\"camera\"", "\"camrea\": {}, \"camera\""), {"camrea", "unknown"});
