@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "src/core/spherical_triangle.h"
+
 namespace lvox {
 
 LightSet::LightSet(const World& world, int areaSamples)
@@ -50,6 +52,15 @@ LightSample LightSet::sampleArea(const Vec3& p, Rng& rng) const {
   return sampleArea(p, FixedPoint2{u, v});
 }
 
+namespace {
+
+bool sampledBySolidAngle(double solidAngle) {
+  return solidAngle >= LightSet::kMinSphericalSolidAngle &&
+         solidAngle <= LightSet::kMaxSphericalSolidAngle;
+}
+
+}  // namespace
+
 LightSample LightSet::sampleArea(const Vec3& p, FixedPoint2 point) const {
   LightSample s;
   // In double: 32 bits of u, so that where it fell in a small triangle's share still has
@@ -63,6 +74,20 @@ LightSample LightSet::sampleArea(const Vec3& p, FixedPoint2 point) const {
   const uint32_t tri = emissiveTriangles_[i];
   const TriangleMesh& mesh = world_.mesh;
   const Vec3 a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
+  const Vec3 n = normalize(cross(b - a, c - a));
+  const SphericalTriangle seen(p, a, b, c);
+  const RGB emission = world_.materials[mesh.triangleMaterial[tri]].emission;
+  if (sampledBySolidAngle(seen.solidAngle())) {
+    s.wi = seen.sample(within, fixedPointToUnit(point.v));
+    const float cosLight = std::abs(dot(n, s.wi));  // emitters are two-sided
+    s.distance = dot(a - p, n) / dot(s.wi, n);
+    if (!(cosLight > 0.0f) || !(s.distance > 0.0f)) return s;
+    // pdf: the triangle's share of the area, then 1 / its solid angle.
+    s.pdf = static_cast<float>((hi - lo) / seen.solidAngle());
+    s.radiance = emission * (1.0f / s.pdf);
+    s.fromEmitter = true;
+    return s;
+  }
   float b1, b2;
   uniformTriangle(static_cast<float>(within), fixedPointToUnit(point.v), b1, b2);
   const Vec3 q = a * (1.0f - b1 - b2) + b * b1 + c * b2;
@@ -71,13 +96,24 @@ LightSample LightSet::sampleArea(const Vec3& p, FixedPoint2 point) const {
   if (!(d2 > 0.0f)) return s;
   s.distance = std::sqrt(d2);
   s.wi = toLight / s.distance;
-  const Vec3 n = normalize(cross(b - a, c - a));
-  const float cosLight = std::abs(dot(n, s.wi));  // emitters are two-sided
+  const float cosLight = std::abs(dot(n, s.wi));
   // Area pdf 1/A over all emitters, converted to solid angle: d^2 / (A cos).
-  s.radiance = world_.materials[mesh.triangleMaterial[tri]].emission * (cosLight * totalArea_ / d2);
+  s.radiance = emission * (cosLight * totalArea_ / d2);
   s.fromEmitter = true;
-  s.pdf = areaPdf(s.distance, cosLight);
+  s.pdf = d2 / (std::max(cosLight, 1e-8f) * totalArea_);
   return s;
+}
+
+float LightSet::emitterPdf(const Vec3& p, uint32_t triangle, float distance, float cosLight) const {
+  const auto it = std::lower_bound(emissiveTriangles_.begin(), emissiveTriangles_.end(), triangle);
+  if (it == emissiveTriangles_.end() || *it != triangle) return 0.0f;
+  const auto i = static_cast<size_t>(it - emissiveTriangles_.begin());
+  const double share = areaCdf_[i] - (i > 0 ? areaCdf_[i - 1] : 0.0);
+  const TriangleMesh& mesh = world_.mesh;
+  const SphericalTriangle seen(p, mesh.vertex(triangle, 0), mesh.vertex(triangle, 1),
+                               mesh.vertex(triangle, 2));
+  if (sampledBySolidAngle(seen.solidAngle())) return static_cast<float>(share / seen.solidAngle());
+  return distance * distance / (std::max(cosLight, 1e-8f) * totalArea_);
 }
 
 }  // namespace lvox

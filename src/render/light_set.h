@@ -59,16 +59,20 @@ class LightSet {
 
   // Unoccluded sample of one point/spot/directional light at p.
   LightSample sampleDelta(const Light& light, const Vec3& p) const;
-  // A uniform-by-area sample of the emissive triangles, seen from p.
+  // A sample of the emissive triangles seen from p: a triangle picked by area, then a
+  // direction uniform over the solid angle it subtends (SphericalTriangle), or a point
+  // uniform over its area where it subtends less than kMinSphericalSolidAngle or nearly
+  // a hemisphere (where the spherical formulas lose precision).
   LightSample sampleArea(const Vec3& p, Rng& rng) const;
   // The same from a point of the unit square (32-bit fixed point): u picks the triangle
-  // by area, and where it fell in that triangle's share, with v, the point on it, so that
-  // stratified points stay stratified over the emitters' whole area.
+  // by area, and where it fell in that triangle's share, with v, the point in it, so that
+  // stratified points stay stratified over the emitters.
   LightSample sampleArea(const Vec3& p, FixedPoint2 point) const;
-  // Solid-angle pdf with which sampleArea picks a point seen at `distance` under `cosLight`.
-  float areaPdf(float distance, float cosLight) const {
-    return distance * distance / (std::max(cosLight, 1e-8f) * totalArea_);
-  }
+  // Solid-angle pdf with which sampleArea, from p, picks the direction that reaches
+  // emissive triangle `triangle` (a mesh index) at `distance` under `cosLight` (MIS).
+  float emitterPdf(const Vec3& p, uint32_t triangle, float distance, float cosLight) const;
+  static constexpr double kMinSphericalSolidAngle = 3e-4;  // sr
+  static constexpr double kMaxSphericalSolidAngle = 6.22;  // sr, 2 pi less about 1 %
 
  private:
   const World& world_;

@@ -243,7 +243,8 @@ void tracePath(const RenderContext& ctx, const MajorantTracker& tracker, Ray ray
       parts.emission += throughput * m.emission;
       later = &parts.indirect;
     } else if (m.isEmissive() && bsdfPdf > 0.0f) {
-      const float lightPdf = ctx.lights.areaPdf(hit.t, std::abs(dot(hit.normal, ray.dir)));
+      const float lightPdf = ctx.lights.emitterPdf(ray.origin, hit.triangle, hit.t,
+                                                   std::abs(dot(hit.normal, ray.dir)));
       *later += throughput * m.emission * powerHeuristic(bsdfPdf, lightPdf);
     }
     if (first && layers) {

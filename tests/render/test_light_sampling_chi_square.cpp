@@ -54,8 +54,27 @@ World emitterWorld() {
   return scene;
 }
 
+V unitV(V v) {
+  const double l = std::sqrt(dotV(v, v));
+  return {v.x / l, v.y / l, v.z / l};
+}
+
+// The solid angle of triangle abc seen from o, by l'Huilier's theorem (not the light
+// set's formula): tan(E/4)^2 = tan(s/2) tan((s-a)/2) tan((s-b)/2) tan((s-c)/2) over the
+// sides a, b, c of the spherical triangle and their half sum s.
+double solidAngle(V o, V a, V b, V c) {
+  const V u = unitV(sub(a, o)), v = unitV(sub(b, o)), w = unitV(sub(c, o));
+  const double sa = std::acos(dotV(v, w)), sb = std::acos(dotV(w, u)), sc = std::acos(dotV(u, v));
+  const double half = 0.5 * (sa + sb + sc);
+  const double t = std::tan(0.5 * half) * std::tan(0.5 * (half - sa)) *
+                   std::tan(0.5 * (half - sb)) * std::tan(0.5 * (half - sc));
+  return 4.0 * std::atan(std::sqrt(std::max(0.0, t)));
+}
+
 // The solid-angle pdf LightSet::sampleArea claims for direction d seen from o: the sum
-// over the emitters the ray crosses of areaPdf(distance, |cos|).
+// over the emitters the ray crosses of the triangle's share of the area times its own
+// pdf: 1 / its solid angle where it is sampled by solid angle, else its area pdf
+// d^2 / (|cos| area).
 double areaPdf(const World& scene, const LightSet& lights, V o, V d) {
   double pdf = 0.0;
   const TriangleMesh& mesh = scene.mesh;
@@ -63,8 +82,14 @@ double areaPdf(const World& scene, const LightSet& lights, V o, V d) {
     const V a = toV(mesh.vertex(t, 0)), b = toV(mesh.vertex(t, 1)), c = toV(mesh.vertex(t, 2));
     if (const auto dist = hit(o, d, a, b, c)) {
       const V n = crossV(sub(b, a), sub(c, a));
+      const double area = 0.5 * std::sqrt(dotV(n, n));
       const double cosLight = std::abs(dotV(n, d)) / std::sqrt(dotV(n, n));
-      pdf += *dist * *dist / (cosLight * lights.emissiveArea());
+      const double share = area / lights.emissiveArea();
+      const double omega = solidAngle(o, a, b, c);
+      pdf +=
+          omega >= LightSet::kMinSphericalSolidAngle && omega <= LightSet::kMaxSphericalSolidAngle
+              ? share / omega
+              : share * *dist * *dist / (cosLight * area);
     }
   }
   return pdf;
@@ -90,6 +115,17 @@ TEST(LightSamplingChiSquare, AreaLights) {
     // is the emission divided by it (emission 1 or 2).
     const double claimed = areaPdf(scene, lights, toV(p), toV(s.wi));
     if (!(std::abs(s.pdf - claimed) <= 1e-3 * claimed)) ++pdfMismatches;
+    // What MIS asks of the light set for the triangle the direction reaches.
+    for (uint32_t t = 0; t < scene.mesh.triangleCount(); ++t) {
+      const V a = toV(scene.mesh.vertex(t, 0)), b = toV(scene.mesh.vertex(t, 1)),
+              c = toV(scene.mesh.vertex(t, 2));
+      if (const auto dist = hit(toV(p), toV(s.wi), a, b, c)) {
+        const V n = unitV(crossV(sub(b, a), sub(c, a)));
+        const float cosLight = static_cast<float>(std::abs(dotV(n, toV(s.wi))));
+        const double asked = lights.emitterPdf(p, t, static_cast<float>(*dist), cosLight);
+        if (!(std::abs(asked - claimed) <= 1e-3 * claimed)) ++pdfMismatches;
+      }
+    }
     const double le = s.radiance.x * s.pdf;
     if (!(std::abs(le - 1.0) < 1e-3 || std::abs(le - 2.0) < 2e-3)) ++radianceMismatches;
   }
