@@ -8,8 +8,8 @@
 
 #include <cmath>
 
+#include "square_lamp.h"
 #include "src/render/light_set.h"
-#include "src/world/mesh_loader.h"
 
 namespace lvox {
 namespace {
@@ -23,11 +23,7 @@ double cornerIrradiance(double a, double b, double h, double L) {
 }
 
 TEST(EmitterSampling, IrradianceJustBelowALampIsExactAndBounded) {
-  World world;
-  world.materials.push_back(Material{"lamp", RGB(0.0f), RGB(3.0f)});
-  const Vec3 a(-1, -1, 1), b(1, -1, 1), c(1, 1, 1), d(-1, 1, 1);
-  addTriangle(world.mesh, a, b, c, 0);
-  addTriangle(world.mesh, a, c, d, 0);
+  const World world = test::squareLampWorld(3.0f);
   const int samples = 16, calls = 4000;
   const LightSet lights(world, samples);
   const Vec3 n(0.0f, 0.0f, 1.0f);

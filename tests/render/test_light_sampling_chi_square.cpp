@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "chi_square.h"
+#include "square_lamp.h"
 #include "src/render/light_set.h"
 #include "src/world/mesh_loader.h"
 
@@ -43,12 +44,8 @@ std::optional<double> hit(V o, V d, V a, V b, V c) {
 // Two emitters of different size and radiance, one facing the point and one tilted off to
 // the side, so the pick by area and the conversion to solid angle are both exercised.
 World emitterWorld() {
-  World scene;
-  scene.materials.push_back(Material{"lamp", RGB(0.0f), RGB(1.0f)});
+  World scene = test::squareLampWorld(1.0f);
   scene.materials.push_back(Material{"lamp2", RGB(0.0f), RGB(2.0f)});
-  const Vec3 a(-1, -1, 1), b(1, -1, 1), c(1, 1, 1), d(-1, 1, 1);
-  addTriangle(scene.mesh, a, b, c, 0);
-  addTriangle(scene.mesh, a, c, d, 0);
   addTriangle(scene.mesh, Vec3(1.5f, -0.5f, -0.3f), Vec3(2.0f, 0.8f, 0.4f), Vec3(1.2f, 0.9f, -0.6f),
               1);
   return scene;

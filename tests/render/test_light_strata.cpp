@@ -8,8 +8,8 @@
 #include <cmath>
 #include <functional>
 
+#include "square_lamp.h"
 #include "src/render/light_set.h"
-#include "src/world/mesh_loader.h"
 
 namespace lvox {
 namespace {
@@ -39,11 +39,7 @@ void expectSameMean(const Spread& a, const Spread& b) {
 }
 
 TEST(LightStrata, AreaLightSamplesOfOneCallAreStratified) {
-  World world;
-  world.materials.push_back(Material{"lamp", RGB(0.0f), RGB(1.0f)});
-  const Vec3 a(-1, -1, 1), b(1, -1, 1), c(1, 1, 1), d(-1, 1, 1);
-  addTriangle(world.mesh, a, b, c, 0);
-  addTriangle(world.mesh, a, c, d, 0);
+  const World world = test::squareLampWorld(1.0f);
   const LightSet strata(world, kSamples), single(world, 1);
   const Vec3 p(0.3f, -0.2f, 0.0f), n(0.0f, 0.0f, 1.0f);
   const Spread stratified = spread([&](int call) {
