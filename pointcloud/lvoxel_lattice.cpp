@@ -40,7 +40,9 @@ std::optional<LvoxelLattice> LvoxelLattice::of(const std::vector<CubeElement>& c
   }
   const double brickCount =
       double(lattice.bricks_[0]) * double(lattice.bricks_[1]) * double(lattice.bricks_[2]);
-  if (brickCount > double(std::numeric_limits<uint32_t>::max()) / 2) return std::nullopt;
+  // The brick table covers the bounding box: a lattice much sparser than its cubes would
+  // cost more than they do (the traversal then runs the heap, as for cubes off a lattice).
+  if (brickCount > kMaxBricksPerCube * double(cubes.size()) + kFreeBricks) return std::nullopt;
   lattice.bounds_.lo = lattice.origin_;
   lattice.bounds_.hi = lattice.origin_ + Vec3(static_cast<float>(lattice.cells_[0]),
                                               static_cast<float>(lattice.cells_[1]),

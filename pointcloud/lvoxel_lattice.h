@@ -27,8 +27,12 @@ class LvoxelLattice {
   static constexpr uint32_t kIndexMask = kLastInCell - 1;
 
   // The lattice the cubes lie on: all of one size, their centres at the cells' centres
-  // (within 1/1000 of a cell); nothing when they do not (cubes placed by hand).
+  // (within 1/1000 of a cell); nothing when they do not (cubes placed by hand), or when
+  // their bounding box holds more than kMaxBricksPerCube bricks per cube beyond
+  // kFreeBricks (its brick table would outweigh the cubes: 4 bytes per brick).
   static std::optional<LvoxelLattice> of(const std::vector<CubeElement>& cubes);
+  static constexpr double kMaxBricksPerCube = 8.0;
+  static constexpr double kFreeBricks = 65536.0;
 
   float spacing() const { return spacing_; }
   const Bounds3& bounds() const { return bounds_; }

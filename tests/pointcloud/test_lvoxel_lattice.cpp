@@ -141,13 +141,15 @@ TEST(LvoxelLattice, MarchStopsWhenTheVisitSaysSo) {
   EXPECT_EQ(cellsSeen, 3);
 }
 
-// Two cubes a thousand cells apart: the lattice stores the two bricks of 8^3 cells that
-// hold them and a table of its bricks, not its billion cells.
+// Two cubes 300 cells apart: the lattice stores the two bricks of 8^3 cells that hold them
+// and a table of its bricks, not its 27 million cells. A thousand cells apart, its table
+// alone (2 million bricks) would outweigh the cubes, and there is no lattice.
 TEST(LvoxelLattice, ASparseLatticeCostsItsBricks) {
-  const std::vector<CubeElement> cubes = cubesOn(0.01f, {{0, 0, 0}, {999, 999, 999}});
+  EXPECT_FALSE(LvoxelLattice::of(cubesOn(0.01f, {{0, 0, 0}, {999, 999, 999}})));
+  const std::vector<CubeElement> cubes = cubesOn(0.01f, {{0, 0, 0}, {299, 299, 299}});
   const auto lattice = LvoxelLattice::of(cubes);
   ASSERT_TRUE(lattice);
-  const size_t bricks = 125 * 125 * 125;
+  const size_t bricks = 38 * 38 * 38;
   EXPECT_LE(lattice->memoryBytes(), bricks * 4 + 2 * 512 * 4 + 2 * 4);
   // The march crosses the empty cells between them and still finds both.
   const Ray diagonal{lattice->bounds().lo - Vec3(0.001f), normalize(Vec3(1, 1, 1)), 0.0f, kInf};
