@@ -68,7 +68,9 @@ inline bool intersectDisk(const Ray& ray, const DiskElement& d, const DiskClip& 
 // Chord [t0, t1] of the ray inside the box [lo, hi], clipped to [tmin, tmax]. A ray
 // parallel to a face and lying exactly in it belongs to the box on the + side only
 // (half-open), so rays along grid planes are not counted in two neighbouring lvoxels.
-inline bool intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, float& t0, float& t1) {
+// `inv` is 1 / ray.dir per axis (computed once per ray by callers that test many boxes).
+inline bool intersectBox(const Ray& ray, const Vec3& inv, const Vec3& lo, const Vec3& hi, float& t0,
+                         float& t1) {
   t0 = ray.tmin;
   t1 = ray.tmax;
   for (int a = 0; a < 3; ++a) {
@@ -76,8 +78,7 @@ inline bool intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, float& 
       if (ray.origin[a] < lo[a] || ray.origin[a] >= hi[a]) return false;
       continue;
     }
-    const float inv = 1.0f / ray.dir[a];
-    float tn = (lo[a] - ray.origin[a]) * inv, tf = (hi[a] - ray.origin[a]) * inv;
+    float tn = (lo[a] - ray.origin[a]) * inv[a], tf = (hi[a] - ray.origin[a]) * inv[a];
     if (tn > tf) std::swap(tn, tf);
     t0 = std::max(t0, tn);
     t1 = std::min(t1, tf);
@@ -85,9 +86,21 @@ inline bool intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, float& 
   return t1 > t0;
 }
 
+inline Vec3 inverseDirection(const Ray& ray) {
+  return Vec3(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z);
+}
+
+inline bool intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, float& t0, float& t1) {
+  return intersectBox(ray, inverseDirection(ray), lo, hi, t0, t1);
+}
+
 // The same for the cube centre +- h.
+inline bool intersectCube(const Ray& ray, const Vec3& inv, const Vec3& c, float h, float& t0,
+                          float& t1) {
+  return intersectBox(ray, inv, c - Vec3(h, h, h), c + Vec3(h, h, h), t0, t1);
+}
 inline bool intersectCube(const Ray& ray, const Vec3& c, float h, float& t0, float& t1) {
-  return intersectBox(ray, c - Vec3(h, h, h), c + Vec3(h, h, h), t0, t1);
+  return intersectCube(ray, inverseDirection(ray), c, h, t0, t1);
 }
 
 // An lvoxel's cube packed for the traversal (LvoxelSet keeps centre and size apart).

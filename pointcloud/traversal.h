@@ -731,6 +731,7 @@ void traverseLvoxelLattice(const PointCloud& pc, const Ray& ray, Visitor& visito
   const bool marched = reach >= ray.tmin;
   if (marched) {
     const CubeElement* cubes = pc.cubes().data();
+    const Vec3 inv = inverseDirection(ray);
     TraversalStats& stats = scratch.stats;
     // Cells entered a little past the reach may hold cubes entered at it (roundings).
     const bool go = pc.lvoxelLattice()->march(ray, reach * 1.0001f, [&](const uint32_t* list) {
@@ -739,7 +740,7 @@ void traverseLvoxelLattice(const PointCloud& pc, const Ray& ray, Visitor& visito
         const uint32_t i = *list & LvoxelLattice::kIndexMask;
         ++stats.elementsTested;
         float t0, t1;
-        if (intersectCube(ray, cubes[i].centre, cubes[i].halfSize, t0, t1) && t0 <= reach) {
+        if (intersectCube(ray, inv, cubes[i].centre, cubes[i].halfSize, t0, t1) && t0 <= reach) {
           ++stats.elementsVisited;
           if (!visitor.lvoxel(i, t0, t1)) return false;
         }
