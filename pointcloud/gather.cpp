@@ -18,6 +18,12 @@ void strataGrid(int n, int& rows, int& cols) {
   cols = n / rows;
 }
 
+int nearFieldRaysPerRay(const GatherOptions& options) {
+  const int samples = std::max(options.samples, 1);
+  if (!(options.nearReach > 0.0f) || options.nearSamples <= samples) return 0;
+  return (options.nearSamples + samples - 1) / samples - 1;
+}
+
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng, TraversalScratch& scratch) {
   RadianceSink sink{cloud, options.background};

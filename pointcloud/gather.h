@@ -48,6 +48,18 @@ struct GatherOptions {
   // With traced visibility: the delta lights' light at each hit, which the surfels then
   // do not carry (null: the surfels carry every light).
   const SurfaceHitLight* hitLight = nullptr;
+  // In-scatter gathers (gatherInScatterInto) only: the part of every ray within
+  // `nearReach` of its origin is sampled by `nearSamples` rays, the rest by `samples`
+  // (docs/pcb.md, "The near field"). No split when nearSamples <= samples or nearReach 0.
+  int nearSamples = 0;
+  float nearReach = 0.0f;
+};
+
+// A gather ray's near field: what it meets before `end` counts `share` of its weight (the
+// ray is one of 1 / share that sample the near field), what lies beyond counts all of it.
+struct NearField {
+  float end = kInf;
+  float share = 1.0f;
 };
 
 // Follows one gather ray through the elements the traversal visits and hands the sink
@@ -67,34 +79,46 @@ struct GatherRayWeights {
   Sink& sink;
   float scale = 1.0f;
   float minTransmittance = 1e-4f;
+  NearField near;
   RGB transmittance{1, 1, 1};
   bool opaqueHit = false;
 
-  void surfel(uint32_t i, float, bool front) {
-    sink.surfel(i, front, transmittance * scale);
+  // The ray's weight at distance t.
+  float scaleAt(float t) const { return t < near.end ? scale * near.share : scale; }
+  void surfel(uint32_t i, float t, bool front) {
+    sink.surfel(i, front, transmittance * scaleAt(t));
     opaqueHit = true;
   }
-  bool surfelCluster(uint32_t n, float, float coverage) {
-    sink.surfelCluster(n, transmittance * (coverage * scale));
+  bool surfelCluster(uint32_t n, float t, float coverage) {
+    sink.surfelCluster(n, transmittance * (coverage * scaleAt(t)));
     transmittance *= 1.0f - coverage;
     return maxComponent(transmittance) >= minTransmittance;
   }
   bool lvoxel(uint32_t i, float t0, float t1) {
-    const RGB w = attenuate(cloud.lvoxels().sigmaT(i), t1 - t0);
+    const RGB w = attenuate(cloud.lvoxels().sigmaT(i), t0, t1);
     sink.lvoxel(i, w);
     return maxComponent(transmittance) >= minTransmittance;
   }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {
-    const RGB w = attenuate(cloud.lvoxelClusters()[n].sigmaT, t1 - t0);
+    const RGB w = attenuate(cloud.lvoxelClusters()[n].sigmaT, t0, t1);
     sink.lvoxelCluster(n, w);
     return maxComponent(transmittance) >= minTransmittance;
   }
-  // A homogeneous cube crossed over `chord` sends T (1 - exp(-sigma_t chord)) of its
-  // source radiance; then T *= exp(-sigma_t chord).
-  RGB attenuate(const RGB& sigmaT, float chord) {
+  // A homogeneous cube crossed from t0 to t1 sends T (1 - exp(-sigma_t chord)) of its
+  // source radiance; then T *= exp(-sigma_t chord). A chord across the near field's end
+  // is split there, each part with its own weight.
+  RGB attenuate(const RGB& sigmaT, float t0, float t1) {
+    if (t0 < near.end && near.end < t1) {
+      // In this order: the far part is seen through the near one.
+      const RGB before = attenuateChord(sigmaT, near.end - t0, scale * near.share);
+      return before + attenuateChord(sigmaT, t1 - near.end, scale);
+    }
+    return attenuateChord(sigmaT, t1 - t0, scaleAt(t0));
+  }
+  RGB attenuateChord(const RGB& sigmaT, float chord, float weight) {
     if (!(chord > 0.0f)) return RGB(0.0f);
     const RGB tr = exp(-sigmaT * chord);
-    const RGB w = transmittance * (RGB(1.0f) - tr) * scale;
+    const RGB w = transmittance * (RGB(1.0f) - tr) * weight;
     transmittance *= tr;
     return w;
   }
@@ -139,9 +163,9 @@ struct RadianceSink {
 // unoccluded media.
 template <class Sink>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
-                    float scale, TraversalScratch& scratch, Sink& sink) {
+                    float scale, TraversalScratch& scratch, Sink& sink, NearField near = {}) {
   sink.beginRay(ray.dir);
-  GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance};
+  GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
   if (!options.tracer || !options.lookup) {
     traverse(cloud, ray, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
@@ -151,14 +175,15 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     traced.tmin = 4.0f * options.tracer->epsilon();
     SurfaceHit hit;
     const bool hitSurface = options.tracer->intersect(traced, hit);
-    traced.tmax = hitSurface ? hit.t : kInf;
+    traced.tmax = hitSurface ? hit.t : ray.tmax;
     traverse(cloud, traced, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle, false}, scratch);
     if (hitSurface) {
       weights.opaqueHit = true;
       if (maxComponent(weights.transmittance) >= options.minTransmittance) {
         if (options.hitLight)
-          sink.surfaceLight(weights.transmittance * scale * options.hitLight->reflected(hit));
+          sink.surfaceLight(weights.transmittance * weights.scaleAt(hit.t) *
+                            options.hitLight->reflected(hit));
         const long surfel = options.lookup->nearest(hit.point, hit.normal);
         if (surfel >= 0) {
           const auto i = static_cast<uint32_t>(surfel);
@@ -167,7 +192,9 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
       }
     }
   }
-  if (!weights.opaqueHit && maxComponent(weights.transmittance) >= options.minTransmittance)
+  // A ray cut short (a near-field ray) has not left the cloud.
+  if (!weights.opaqueHit && std::isinf(ray.tmax) &&
+      maxComponent(weights.transmittance) >= options.minTransmittance)
     sink.addBackground(weights.transmittance * scale);
 }
 
@@ -213,11 +240,18 @@ IrradianceParts gatherIrradianceParts(const PointCloud& cloud, const Vec3& p, co
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng);
 
+// Short rays per gather ray that sample its near field alone (GatherOptions::nearSamples):
+// nearSamples / samples - 1, rounded up; 0 without a near field of its own.
+int nearFieldRaysPerRay(const GatherOptions& options);
+
 // In-scattered radiance L_scatter(p, wo) = integral over the sphere of
 // phase(wo, wi) L(p <- wi) dwi [W/(m^2 sr)]; the medium's source is sigma_s * L_scatter.
 // Directions are stratified uniform on the sphere and weighted by phase / pdf, which
 // works for any phase function (noisy for strongly peaked ones). `phase(wo, wi)` gets
 // wo pointing from p to the viewer and wi pointing from p to where the light comes from.
+// With a near field (GatherOptions::nearSamples), each stratum also sends k short rays
+// that end at nearReach, and its long ray counts 1 / (k + 1) of its weight before there:
+// the integral is the same, its near part sampled by k + 1 times the rays.
 template <class Phase, class Sink>
 void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo, const Phase& phase,
                          const GatherOptions& options, Rng& rng, TraversalScratch& scratch,
@@ -225,15 +259,29 @@ void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo,
   int rows, cols;
   strataGrid(options.samples, rows, cols);
   const float perRay = 1.0f / static_cast<float>(rows * cols);
+  const int nearRays = nearFieldRaysPerRay(options);
+  const NearField near = nearRays > 0
+                             ? NearField{options.nearReach, 1.0f / static_cast<float>(nearRays + 1)}
+                             : NearField{};
+  auto direction = [&](int r, int c) {
+    const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
+    const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
+    return uniformSphere(u1, u2);
+  };
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
-      const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
-      const Vec3 wi = uniformSphere(u1, u2);
+      const Vec3 wi = direction(r, c);
       const float weight = static_cast<float>(phase(wo, wi)) / kUniformSpherePdf;
-      if (!(weight > 0.0f)) continue;
-      const Ray ray{p, wi, 0.0f, kInf};
-      traceGatherRay(cloud, ray, options, weight * perRay, scratch, sink);
+      if (weight > 0.0f)
+        traceGatherRay(cloud, Ray{p, wi, 0.0f, kInf}, options, weight * perRay, scratch, sink,
+                       near);
+      for (int k = 0; k < nearRays; ++k) {
+        const Vec3 wk = direction(r, c);
+        const float w = static_cast<float>(phase(wo, wk)) / kUniformSpherePdf;
+        if (w > 0.0f)
+          traceGatherRay(cloud, Ray{p, wk, 0.0f, options.nearReach}, options,
+                         w * perRay * near.share, scratch, sink);
+      }
     }
 }
 

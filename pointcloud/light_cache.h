@@ -220,7 +220,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   stats.traceSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - traceStart).count();
   stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
-                     m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1));
+                     m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1)) *
+                         static_cast<size_t>(1 + nearFieldRaysPerRay(lvoxelOptions));
   stats.entries = gathers.entries();
   stats.operatorBytes = gathers.memoryBytes();
 

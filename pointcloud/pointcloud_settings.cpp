@@ -37,6 +37,8 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.lvoxelSpacing = p.number("lvoxel_spacing", 0.0f, 1e9f, s.lvoxelSpacing);
   s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
   s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
+  s.lvoxelNearSamples = p.integer("lvoxel_near_samples", 1, 1 << 16, s.lvoxelNearSamples);
+  s.lvoxelNearReach = p.number("lvoxel_near_reach", 0.0f, 1e3f, s.lvoxelNearReach);
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
@@ -65,6 +67,8 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_spacing", s.lvoxelSpacing);
   l.add(p + "lvoxel_samples", s.lvoxelSamples);
   l.add(p + "lvoxel_gather_samples", s.lvoxelGatherSamples);
+  l.add(p + "lvoxel_near_samples", s.lvoxelNearSamples);
+  l.add(p + "lvoxel_near_reach", s.lvoxelNearReach);
   l.add(p + "bounces", s.bounces);
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));

@@ -22,6 +22,10 @@ struct PointCloudSettings {
   float lvoxelSpacing = 0.0f;    // 0: derived from the medium size
   int lvoxelSamples = 2;         // jittered samples per axis averaged per lvoxel
   int lvoxelGatherSamples = 16;  // sphere rays per lvoxel and scattering pass
+  // Rays that sample each lvoxel's near field (within lvoxelNearReach cube sides): the
+  // lvoxelGatherSamples rays and short ones in their strata (docs/pcb.md, "The near field").
+  int lvoxelNearSamples = 64;
+  float lvoxelNearReach = 2.0f;  // lvoxel cube sides; 0: no near field of its own
   int bounces = 24;              // interreflection passes (surfels and lvoxels)
   float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;

@@ -81,9 +81,16 @@ void checkLvoxelMemory(const RenderContext& ctx, const PointCloudSettings& setti
   const double n = static_cast<double>(lvoxels);
   const double perLvoxel =
       kBytesPerLvoxel + (set.light.coefficients() > 1 ? kDirectionalBytesPerLvoxel : 0.0);
-  const double weights = settings.bounces > 0
-                             ? settings.lvoxelGatherSamples * kWeightsPerLvoxelRay * kBytesPerWeight
-                             : 0.0;
+  GatherOptions near;  // its short near-field rays meet about one lvoxel per cube side
+  near.samples = settings.lvoxelGatherSamples;
+  near.nearSamples = settings.lvoxelNearSamples;
+  near.nearReach = settings.lvoxelNearReach;
+  const double nearWeights =
+      nearFieldRaysPerRay(near) * (std::ceil(settings.lvoxelNearReach) + 1.0);
+  const double weights =
+      settings.bounces > 0
+          ? settings.lvoxelGatherSamples * (kWeightsPerLvoxelRay + nearWeights) * kBytesPerWeight
+          : 0.0;
   const std::string what = "the lvoxels (" + std::to_string(lvoxels) + ")";
   ctx.budget->check(static_cast<uint64_t>(n * (perLvoxel + weights)), sceneFile,
                     "pointcloud.lvoxel_spacing", what);
@@ -314,6 +321,9 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     GatherOptions lvoxelOptions =
         gatherOptions(ctx, cache, settings, spacing, settings.lvoxelGatherSamples);
     lvoxelOptions.rayOffset = 0.0f;  // an lvoxel's own cube is part of its neighbourhood
+    lvoxelOptions.nearSamples = settings.lvoxelNearSamples;
+    lvoxelOptions.nearReach =
+        settings.lvoxelNearReach * cache.cloud->lvoxels().light.grid().spacing;
     std::function<void(uint64_t)> reserve;
     if (ctx.budget)
       reserve = [&](uint64_t bytes) {

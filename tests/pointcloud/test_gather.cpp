@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "pointcloud/light_cache.h"
 #include "pointcloud/lvoxel_sampler.h"
@@ -180,6 +181,84 @@ TEST(Gather, InScatterThroughAbsorbingMediumInAClosedBox) {
   }
   std::printf("in-scatter through absorber: %.4f, quadrature %.4f\n", sum.x / 4.0, expected);
   EXPECT_NEAR(sum.x / 4.0 / expected, 1.0, 0.02);
+}
+
+TEST(Gather, NearFieldRaysKeepTheInScatterThroughAnAbsorber) {
+  // The absorber box above, with each stratum's near field (within 0.3 of p: a wall is
+  // that close in some directions, the lvoxels in all of them) sampled by four rays
+  // instead of one: the same integral, the same quadrature, the same 2 %.
+  const test::BoxMedium medium(Vec3(0, 0, 0), Vec3(1, 1, 1), RGB(1.5f), RGB(0.0f));
+  const PointCloud pc = furnaceBox(sampleLvoxels(medium, {0.0625f}));
+  const Vec3 p(0.25f, 0.55f, 0.47f);
+  double expected = 0.0;
+  const int n = 400;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vec3 w =
+          uniformSphere((static_cast<float>(i) + 0.5f) / n, (static_cast<float>(j) + 0.5f) / n);
+      float t0, t1;
+      Bounds3 box;
+      box.lo = Vec3(0, 0, 0);
+      box.hi = Vec3(1, 1, 1);
+      box.intersect(Ray{p, w, 0.0f, kInf}, t0, t1);
+      expected += std::exp(-1.5 * t1);
+    }
+  expected /= n * n;
+  GatherOptions o;
+  o.samples = 64;
+  o.nearSamples = 256;
+  o.nearReach = 0.3f;
+  ASSERT_EQ(nearFieldRaysPerRay(o), 3);
+  RGB sum(0.0f);
+  for (int g = 0; g < 4; ++g) {
+    Rng rng(5, static_cast<uint64_t>(g));
+    sum += gatherInScatter(pc, p, Vec3(0, 0, 1), IsotropicPhase{}, o, rng);
+  }
+  std::printf("in-scatter with a near field: %.4f, quadrature %.4f\n", sum.x / 4.0, expected);
+  EXPECT_NEAR(sum.x / 4.0 / expected, 1.0, 0.02);
+}
+
+// Records the weight a gather ray gives each lvoxel.
+struct LvoxelWeights {
+  std::vector<float> weight;
+  explicit LvoxelWeights(size_t n) : weight(n, 0.0f) {}
+  void beginRay(const Vec3&) {}
+  void surfel(uint32_t, bool, const RGB&) {}
+  void surfelCluster(uint32_t, const RGB&) {}
+  void lvoxel(uint32_t i, const RGB& w) { weight[i] += w.x; }
+  void lvoxelCluster(uint32_t, const RGB&) {}
+  void addBackground(const RGB&) {}
+  void surfaceLight(const RGB&) {}
+};
+
+TEST(Gather, NearFieldSplitsTheCubeAtItsEndExactly) {
+  // A ray through a slab of lvoxels (sigma_t 2, cubes 0.25). Its near field ends inside a
+  // cube: with share 1 the two parts of that cube add up to its whole weight, and with
+  // share s the lvoxels before the end get s of what a ray cut there gives them, those
+  // beyond what the whole ray gives them.
+  const test::BoxMedium slab(Vec3(-1, -1, 0), Vec3(1, 1, 2), RGB(1.0f), RGB(1.0f));
+  const PointCloud pc(SurfelSet{}, sampleLvoxels(slab, {0.25f}));
+  const size_t n = pc.lvoxels().size();
+  GatherOptions o;
+  TraversalScratch scratch;
+  const Ray ray{Vec3(0.1f, 0.05f, -0.5f), normalize(Vec3(0.1f, 0.2f, 1.0f)), 0.0f, kInf};
+  const float end = 1.13f;  // 0.63 into the slab: inside its third cube
+  LvoxelWeights whole(n), split(n), cut(n), shared(n);
+  traceGatherRay(pc, ray, o, 1.0f, scratch, whole);
+  traceGatherRay(pc, ray, o, 1.0f, scratch, split, NearField{end, 1.0f});
+  traceGatherRay(pc, Ray{ray.origin, ray.dir, 0.0f, end}, o, 1.0f, scratch, cut);
+  traceGatherRay(pc, ray, o, 1.0f, scratch, shared, NearField{end, 0.25f});
+  int before = 0, across = 0;
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_NEAR(split.weight[i], whole.weight[i], 1e-6f) << i;
+    // The part beyond the end: what the whole ray gives, less what the cut ray does.
+    const float far = whole.weight[i] - cut.weight[i];
+    EXPECT_NEAR(shared.weight[i], 0.25f * cut.weight[i] + far, 1e-6f) << i;
+    before += cut.weight[i] > 0.0f;
+    across += cut.weight[i] > 0.0f && far > 1e-4f;
+  }
+  EXPECT_GE(before, 3);
+  EXPECT_EQ(across, 1);  // the cube the end falls in
 }
 
 TEST(Gather, WallSeenThroughAGlowingSlab) {

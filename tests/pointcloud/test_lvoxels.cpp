@@ -241,5 +241,25 @@ TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
   EXPECT_LT(inner.x, 1.0f);
 }
 
+TEST(Lvoxels, InScatterFurnaceWithANearField) {
+  // The furnace above, each ray's near field (0.35, inside the medium in every direction
+  // from the centre) sampled by four rays: the long ray's near part counts a quarter,
+  // three short rays the rest. The transmittance to 0.35 is exp(-3 * 0.35) in every
+  // direction, so the parts still add up to 1 ray by ray, up to float rounding.
+  const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
+  PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
+  LvoxelLight& light = cloud.mutableLvoxels().light;
+  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
+  cloud.updateAggregates();
+  GatherOptions o;
+  o.samples = 16;
+  o.nearSamples = 64;
+  o.nearReach = 0.35f;
+  o.background = RGB(1.0f);
+  Rng rng(1, 2);
+  const RGB ls = gatherInScatter(cloud, Vec3(0, 0, 0), Vec3(0, 0, 1), IsotropicPhase{}, o, rng);
+  EXPECT_NEAR(ls.x, 1.0f, 1e-4f);
+}
+
 }  // namespace
 }  // namespace lvox

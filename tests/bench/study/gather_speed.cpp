@@ -205,7 +205,7 @@ Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions
     } else if (w.kind == Kind::Traced) {
       traceGatherRay(cloud, w.rays[k], traced, 1.0f, s, sink);
     } else {
-      GatherRayWeights<HashSink> weights{cloud, sink, 1.0f, traced.minTransmittance};
+      GatherRayWeights<HashSink> weights{cloud, sink, 1.0f, traced.minTransmittance, NearField{}};
       traverse(cloud, w.rays[k], weights, lvoxelsOnly, s);
     }
     hashes[k] = sink.hash;
