@@ -150,15 +150,17 @@ TEST(Gather, WhiteFloorBesideRedWallReceivesRedLight) {
   EXPECT_GT(bleed.x, 0.0f);
 }
 
-TEST(Gather, InScatterThroughAbsorbingMediumInAClosedBox) {
-  // Unit box of surfels of radiance 1, filled with a purely absorbing medium
-  // (sigma_a = 1.5, lvoxel spacing 1/16). Isotropic in-scatter at p is the mean over the
-  // sphere of exp(-sigma_a * d(p, w)), d the distance to the wall: computed here by
-  // quadrature over directions. 2%: the stratified estimate of 256 rays is smooth.
+// The furnace box filled with a purely absorbing medium (sigma_a = 1.5, lvoxel spacing
+// 1/16).
+PointCloud absorberBox() {
   const test::BoxMedium medium(Vec3(0, 0, 0), Vec3(1, 1, 1), RGB(1.5f), RGB(0.0f));
-  const PointCloud pc = furnaceBox(sampleLvoxels(medium, {0.0625f}));
-  const Vec3 p(0.4f, 0.55f, 0.47f);
-  double expected = 0.0;
+  return furnaceBox(sampleLvoxels(medium, {0.0625f}));
+}
+
+// Its isotropic in-scatter at p: the mean over the sphere of exp(-sigma_a * d(p, w)), d the
+// distance to the wall, by midpoint quadrature over 400 x 400 directions.
+double absorberInScatter(const Vec3& p) {
+  double sum = 0.0;
   const int n = 400;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
@@ -169,53 +171,45 @@ TEST(Gather, InScatterThroughAbsorbingMediumInAClosedBox) {
       box.lo = Vec3(0, 0, 0);
       box.hi = Vec3(1, 1, 1);
       box.intersect(Ray{p, w, 0.0f, kInf}, t0, t1);
-      expected += std::exp(-1.5 * t1);
+      sum += std::exp(-1.5 * t1);
     }
-  expected /= n * n;
-  GatherOptions o;
-  o.samples = 256;
-  RGB sum(0.0f);
+  return sum / (n * n);
+}
+
+// The isotropic in-scatter at p in the absorber box, averaged over four gathers of
+// independent rays, over its quadrature.
+double absorberInScatterRatio(const Vec3& p, const GatherOptions& o, const char* what) {
+  const PointCloud pc = absorberBox();
+  double sum = 0.0;
   for (int g = 0; g < 4; ++g) {
     Rng rng(5, static_cast<uint64_t>(g));
-    sum += gatherInScatter(pc, p, Vec3(0, 0, 1), IsotropicPhase{}, o, rng);
+    sum += gatherInScatter(pc, p, Vec3(0, 0, 1), IsotropicPhase{}, o, rng).x;
   }
-  std::printf("in-scatter through absorber: %.4f, quadrature %.4f\n", sum.x / 4.0, expected);
-  EXPECT_NEAR(sum.x / 4.0 / expected, 1.0, 0.02);
+  const double expected = absorberInScatter(p);
+  std::printf("in-scatter %s: %.4f, quadrature %.4f\n", what, sum / 4.0, expected);
+  return sum / 4.0 / expected;
+}
+
+TEST(Gather, InScatterThroughAbsorbingMediumInAClosedBox) {
+  // Unit box of surfels of radiance 1, filled with a purely absorbing medium
+  // (sigma_a = 1.5, lvoxel spacing 1/16). Isotropic in-scatter at p is the mean over the
+  // sphere of exp(-sigma_a * d(p, w)), d the distance to the wall: computed here by
+  // quadrature over directions. 2%: the stratified estimate of 256 rays is smooth.
+  GatherOptions o;
+  o.samples = 256;
+  EXPECT_NEAR(absorberInScatterRatio(Vec3(0.4f, 0.55f, 0.47f), o, "through absorber"), 1.0, 0.02);
 }
 
 TEST(Gather, NearFieldRaysKeepTheInScatterThroughAnAbsorber) {
   // The absorber box above, with each stratum's near field (within 0.3 of p: a wall is
   // that close in some directions, the lvoxels in all of them) sampled by four rays
   // instead of one: the same integral, the same quadrature, the same 2 %.
-  const test::BoxMedium medium(Vec3(0, 0, 0), Vec3(1, 1, 1), RGB(1.5f), RGB(0.0f));
-  const PointCloud pc = furnaceBox(sampleLvoxels(medium, {0.0625f}));
-  const Vec3 p(0.25f, 0.55f, 0.47f);
-  double expected = 0.0;
-  const int n = 400;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Vec3 w =
-          uniformSphere((static_cast<float>(i) + 0.5f) / n, (static_cast<float>(j) + 0.5f) / n);
-      float t0, t1;
-      Bounds3 box;
-      box.lo = Vec3(0, 0, 0);
-      box.hi = Vec3(1, 1, 1);
-      box.intersect(Ray{p, w, 0.0f, kInf}, t0, t1);
-      expected += std::exp(-1.5 * t1);
-    }
-  expected /= n * n;
   GatherOptions o;
   o.samples = 64;
   o.nearSamples = 256;
   o.nearReach = 0.3f;
   ASSERT_EQ(nearFieldRaysPerRay(o), 3);
-  RGB sum(0.0f);
-  for (int g = 0; g < 4; ++g) {
-    Rng rng(5, static_cast<uint64_t>(g));
-    sum += gatherInScatter(pc, p, Vec3(0, 0, 1), IsotropicPhase{}, o, rng);
-  }
-  std::printf("in-scatter with a near field: %.4f, quadrature %.4f\n", sum.x / 4.0, expected);
-  EXPECT_NEAR(sum.x / 4.0 / expected, 1.0, 0.02);
+  EXPECT_NEAR(absorberInScatterRatio(Vec3(0.25f, 0.55f, 0.47f), o, "with a near field"), 1.0, 0.02);
 }
 
 // Records the weight a gather ray gives each lvoxel.

@@ -216,15 +216,22 @@ TEST(Lvoxels, ClustersOfPartlyFilledCellsConserveTheCrossSection) {
     }
 }
 
-TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
-  // Volume white furnace: non-absorbing medium whose lvoxels all carry source radiance
-  // 1, background radiance 1: every gather ray returns exactly 1, so the isotropic
-  // in-scatter is 1 whatever the transmittance (up to float rounding).
+// A non-absorbing medium (sigma_s 3 in [-1, 1]^3, lvoxels 0.1) whose lvoxels all carry
+// source radiance 1.
+PointCloud glowingFurnace() {
   const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
   PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
   LvoxelLight& light = cloud.mutableLvoxels().light;
   for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
   cloud.updateAggregates();
+  return cloud;
+}
+
+TEST(Lvoxels, InScatterFurnaceInsideAMedium) {
+  // Volume white furnace: non-absorbing medium whose lvoxels all carry source radiance
+  // 1, background radiance 1: every gather ray returns exactly 1, so the isotropic
+  // in-scatter is 1 whatever the transmittance (up to float rounding).
+  const PointCloud cloud = glowingFurnace();
   GatherOptions o;
   o.samples = 64;
   o.background = RGB(1.0f);
@@ -246,11 +253,7 @@ TEST(Lvoxels, InScatterFurnaceWithANearField) {
   // from the centre) sampled by four rays: the long ray's near part counts a quarter,
   // three short rays the rest. The transmittance to 0.35 is exp(-3 * 0.35) in every
   // direction, so the parts still add up to 1 ray by ray, up to float rounding.
-  const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
-  PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
-  LvoxelLight& light = cloud.mutableLvoxels().light;
-  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
-  cloud.updateAggregates();
+  const PointCloud cloud = glowingFurnace();
   GatherOptions o;
   o.samples = 16;
   o.nearSamples = 64;
