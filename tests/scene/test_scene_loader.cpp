@@ -84,11 +84,18 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
     return withField("\"lights\"", "\"pointcloud\": {" + settings + "}, \"lights\"");
   };
   const Scene scene =
-      parseScene(withPointCloud("\"gather_filter\": 2.5, \"burial_reach\": 0, \"bounces\": 200"),
+      parseScene(withPointCloud("\"gather_filter\": 2.5, \"burial_reach\": 0, \"bounces\": 200, "
+                                "\"lvoxel_near_samples\": 48, \"lvoxel_near_reach\": 0"),
                  "/tmp/scene.json");
   EXPECT_FLOAT_EQ(scene.pointcloud.gatherFilter, 2.5f);
   EXPECT_FLOAT_EQ(scene.pointcloud.burialReach, 0.0f);
   EXPECT_EQ(scene.pointcloud.bounces, 200);
+  EXPECT_EQ(scene.pointcloud.lvoxelNearSamples, 48);
+  EXPECT_FLOAT_EQ(scene.pointcloud.lvoxelNearReach, 0.0f);
+  expectError(withPointCloud("\"lvoxel_near_samples\": 0"),
+              {"pointcloud.lvoxel_near_samples", "outside"});
+  expectError(withPointCloud("\"lvoxel_near_reach\": -1"),
+              {"pointcloud.lvoxel_near_reach", "outside"});
   expectError(withPointCloud("\"gather_filter\": 0.5"), {"pointcloud.gather_filter", "outside"});
   expectError(withPointCloud("\"burial_reach\": -1"), {"pointcloud.burial_reach", "outside"});
   expectError(withPointCloud("\"bounces\": 5000"), {"pointcloud.bounces", "outside"});
