@@ -760,6 +760,8 @@ template <class Visitor>
 void traverse(const PointCloud& pc, const Ray& ray, Visitor& visitor,
               const TraversalOptions& options, TraversalScratch& scratch) {
   if (pc.empty()) return;
+  // Lvoxels only, and none: the walk would pop the root and meet nothing.
+  if (!options.surfels && pc.lvoxels().size() == 0) return;
   if (!options.surfels && pc.lvoxelLattice()) {
     detail::traverseLvoxelLattice(pc, ray, visitor, options, scratch);
     return;
