@@ -127,5 +127,14 @@ TEST(SurfelLookup, AWallCostsFewBytesPerSurfel) {
   EXPECT_NEAR(q.y, 0.35f, 1e-5f);
 }
 
+TEST(SurfelLookup, NoSurfelsFindsNone) {
+  // A cloud of lvoxels only (a medium in an empty scene): the table holds no block.
+  const PointCloud pc(SurfelSet{}, LvoxelSet{});
+  const SurfelLookup lookup(pc.surfels(), 0.25f);
+  EXPECT_TRUE(lookup.empty());
+  EXPECT_EQ(lookup.nearest(Vec3(0.1f, -3.0f, 2.0f), Vec3(0, 1, 0)), -1);
+  EXPECT_EQ(lookup.nearest(Vec3(0.0f), Vec3(0, 0, 1)), -1);
+}
+
 }  // namespace
 }  // namespace lvox
