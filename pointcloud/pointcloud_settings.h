@@ -31,7 +31,7 @@ struct PointCloudSettings {
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   int surfelGatherSamples = 4;           // hemisphere rays per surfel side and pass
   int gatherSamples = 64;                // gather rays per pixel (split over its samples)
-  int gatherSpacing = 4;                 // pixels between final gathers; 1: every camera hit
+  int gatherSpacing = 2;                 // pixels between final gathers; 1: every camera hit
   float gatherFilter = 3.0f;             // tent half-width over final gathers, in gathers
   float lvoxelClusterSolidAngle = 0.0f;  // sr, lvoxel-only nodes; defaultLvoxelClusterSolidAngle
   float clusterSolidAngle = 0.0f;        // sr; 0 = every element exactly
