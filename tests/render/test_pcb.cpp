@@ -160,7 +160,6 @@ TEST(PointBasedRenderer, SunlitSlatsConvergeWithTheCloud) {
   EXPECT_LT(std::abs(fine - 1.0), std::abs(coarse - 1.0));
 }
 
-
 // A sunlit wall standing on a sunlit floor, seen from straight above: the floor beside the
 // wall's foot takes much of its indirect light from the wall, and less the further out it
 // lies. The final-gather grid blends gathers over `gather_filter` grid spacings; every
