@@ -186,7 +186,7 @@ std::string wallOnFloor(int gatherSpacing) {
 // The floor's indirect light in the band of columns beside the wall's foot.
 double cornerIndirect(const Image& image, const Image& direct) {
   // The image is 8.7 wide at the floor, so the corner (x = 0) falls in column 24.7 and
-  // columns 25-27 are floor 0.05-0.39 from the wall (the wall's face fills 17-24).
+  // columns 25-27 are floor 0.05-0.45 from the wall (the wall's face fills 17-24).
   double sum = 0.0;
   for (int y = 2; y < 30; ++y)
     for (int x = 25; x <= 27; ++x) sum += image.at(x, y).x - direct.at(x, y).x;
