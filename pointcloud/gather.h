@@ -53,6 +53,10 @@ struct GatherOptions {
   // (docs/pcb.md, "The near field"). No split when nearSamples <= samples or nearReach 0.
   int nearSamples = 0;
   float nearReach = 0.0f;
+  // Irradiance gathers only: -1, or which quarter (bit 0: u1's half, bit 1: u2's) of each
+  // stratum its sample falls in, so that four gathers with the four quarters stratify
+  // their directions four times as finely together (interleaved sampling).
+  int quarter = -1;
 };
 
 // A gather ray's near field: what it meets before `end` counts `share` of its weight (the
@@ -218,8 +222,13 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
   const float scale = kPi / static_cast<float>(rows * cols);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      const float u1 = (static_cast<float>(r) + rng.uniform()) / static_cast<float>(rows);
-      const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
+      float j1 = rng.uniform(), j2 = rng.uniform();
+      if (options.quarter >= 0) {
+        j1 = 0.5f * (static_cast<float>(options.quarter & 1) + j1);
+        j2 = 0.5f * (static_cast<float>((options.quarter >> 1) & 1) + j2);
+      }
+      const float u1 = (static_cast<float>(r) + j1) / static_cast<float>(rows);
+      const float u2 = (static_cast<float>(c) + j2) / static_cast<float>(cols);
       const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
       traceGatherRay(cloud, ray, options, scale, scratch, sink);
     }

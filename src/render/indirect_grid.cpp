@@ -48,8 +48,13 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
       hits[static_cast<size_t>(j * nx_ + i)] = 1;
       if (j % ranks != rank) continue;  // another rank's row
       Rng rng(seed ^ 0x9a7e5u, static_cast<uint64_t>(j * nx_ + i));
+      // Each point of a 2 x 2 block samples its own quarter of every stratum: the filter
+      // averages neighbouring points, whose directions then stratify the hemisphere
+      // four times as finely between them (interleaved sampling; docs/results.md).
+      GatherOptions quartered = options;
+      quartered.quarter = static_cast<int>((i & 1) | ((j & 1) << 1));
       const IrradianceParts parts =
-          gatherIrradianceParts(cloud, hit.point, hit.normal, options, rng, scratch);
+          gatherIrradianceParts(cloud, hit.point, hit.normal, quartered, rng, scratch);
       irradiance[2 * static_cast<size_t>(j * nx_ + i)] = parts.cloud;
       irradiance[2 * static_cast<size_t>(j * nx_ + i) + 1] = parts.background;
     }

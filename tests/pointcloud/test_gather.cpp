@@ -225,6 +225,51 @@ struct LvoxelWeights {
   void surfaceLight(const RGB&) {}
 };
 
+// Records each gather ray's direction.
+struct RayDirections {
+  std::vector<Vec3> dirs;
+  void beginRay(const Vec3& d) { dirs.push_back(d); }
+  void surfel(uint32_t, bool, const RGB&) {}
+  void surfelCluster(uint32_t, const RGB&) {}
+  void lvoxel(uint32_t, const RGB&) {}
+  void lvoxelCluster(uint32_t, const RGB&) {}
+  void addBackground(const RGB&) {}
+  void surfaceLight(const RGB&) {}
+};
+
+TEST(Gather, FourQuartersStratifyTheHemisphereFourTimesAsFinely) {
+  // 64 rays in 8 x 8 strata of the cosine map (u1 = 1 - cos^2, u2 = azimuth / 2 pi).
+  // Alone, a gather with quarter q has one ray per stratum, in that stratum's quarter q;
+  // the four quarters together have one ray in each of the 16 x 16 half-strata (the final
+  // gathers' grid gives a 2 x 2 block of points the four quarters).
+  const PointCloud pc(SurfelSet{}, LvoxelSet{});
+  TraversalScratch scratch;
+  std::vector<int> fine(16 * 16, 0);
+  for (int q = 0; q < 4; ++q) {
+    GatherOptions o;
+    o.samples = 64;
+    o.quarter = q;
+    RayDirections sink;
+    Rng rng(7, static_cast<uint64_t>(q));
+    gatherIrradianceInto(pc, Vec3(0.0f), Vec3(0, 0, 1), o, rng, scratch, sink);
+    ASSERT_EQ(sink.dirs.size(), 64u);
+    std::vector<int> coarse(8 * 8, 0);
+    for (const Vec3& d : sink.dirs) {
+      const float u1 = 1.0f - d.z * d.z;
+      float u2 = std::atan2(d.y, d.x) / (2.0f * kPi);
+      if (u2 < 0.0f) u2 += 1.0f;
+      const int f1 = std::min(15, static_cast<int>(u1 * 16.0f));
+      const int f2 = std::min(15, static_cast<int>(u2 * 16.0f));
+      ++coarse[static_cast<size_t>((f1 / 2) * 8 + f2 / 2)];
+      ++fine[static_cast<size_t>(f1 * 16 + f2)];
+      EXPECT_EQ(f1 % 2, q & 1) << q;
+      EXPECT_EQ(f2 % 2, (q >> 1) & 1) << q;
+    }
+    for (int c : coarse) EXPECT_EQ(c, 1) << q;
+  }
+  for (int c : fine) EXPECT_EQ(c, 1);
+}
+
 TEST(Gather, NearFieldSplitsTheCubeAtItsEndExactly) {
   // A ray through a slab of lvoxels (sigma_t 2, cubes 0.25). Its near field ends inside a
   // cube: with share 1 the two parts of that cube add up to its whole weight, and with
