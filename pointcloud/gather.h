@@ -11,6 +11,7 @@
 
 #include "pointcloud/surfel_lookup.h"
 #include "pointcloud/traversal.h"
+#include "pointcloud/triangle_surfel_lattice.h"
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
 #include "src/geometry/ray_tracer.h"
@@ -39,11 +40,13 @@ struct GatherOptions {
   float rayOffset = 1e-4f;           // ray tmin, scene units: skips the receiver's own disks
   RGB background{0, 0, 0};           // radiance of rays that leave the cloud
   float minTransmittance = 1e-4f;
-  // Visibility by ray tracing (both set): a gather ray finds its surface with `tracer`
-  // and takes the radiance of the nearest surfel there (`lookup`); the octree only adds
-  // the lvoxels in front; `rayOffset` is then replaced by a few tracer epsilons. Unset:
-  // the first surfel disk the traversal meets (Gibson).
+  // Visibility by ray tracing (`tracer` and `lattice` or `lookup` set): a gather ray finds
+  // its surface with `tracer` and takes the radiance of the surfel that stands for the hit:
+  // the triangle lattice's where it is set, else the lookup's exact search; the octree only
+  // adds the lvoxels in front; `rayOffset` is then replaced by a few tracer epsilons.
+  // Unset: the first surfel disk the traversal meets (Gibson).
   const RayTracer* tracer = nullptr;
+  const TriangleSurfelLattice* lattice = nullptr;
   const SurfelLookup* lookup = nullptr;
   // With traced visibility: the delta lights' light at each hit, which the surfels then
   // do not carry (null: the surfels carry every light).
@@ -57,6 +60,11 @@ struct GatherOptions {
   // stratum its sample falls in, so that four gathers with the four quarters stratify
   // their directions four times as finely together (interleaved sampling).
   int quarter = -1;
+
+  bool tracesSurfaces() const { return tracer && (lattice || lookup); }
+  long surfelAt(const SurfaceHit& hit) const {
+    return lattice ? lattice->nearest(hit) : lookup->nearest(hit.point, hit.normal);
+  }
 };
 
 // A gather ray's near field: what it meets before `end` counts `share` of its weight (the
@@ -170,7 +178,7 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
                     float scale, TraversalScratch& scratch, Sink& sink, NearField near = {}) {
   sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
-  if (!options.tracer || !options.lookup) {
+  if (!options.tracesSurfaces()) {
     traverse(cloud, ray, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
   } else {
@@ -188,7 +196,7 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
         if (options.hitLight)
           sink.surfaceLight(weights.transmittance * weights.scaleAt(hit.t) *
                             options.hitLight->reflected(hit));
-        const long surfel = options.lookup->nearest(hit.point, hit.normal);
+        const long surfel = options.surfelAt(hit);
         if (surfel >= 0) {
           const auto i = static_cast<uint32_t>(surfel);
           weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f);

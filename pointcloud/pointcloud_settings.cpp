@@ -46,6 +46,7 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
                parseGatherVisibility);
+  s.hitLatticeStep = p.number("hit_lattice_step", 0.0f, 16.0f, s.hitLatticeStep);
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
   s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
@@ -72,6 +73,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "bounces", s.bounces);
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
+  l.add(p + "hit_lattice_step", s.hitLatticeStep);
   l.add(p + "surfel_gather_samples", s.surfelGatherSamples);
   l.add(p + "gather_samples", s.gatherSamples);
   l.add(p + "gather_spacing", s.gatherSpacing);

@@ -29,6 +29,10 @@ struct PointCloudSettings {
   int bounces = 24;              // interreflection passes (surfels and lvoxels)
   float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
+  // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
+  // surfel standing for a gather ray's hit (triangle_surfel_lattice.h); 0: the exact
+  // nearest-surfel search at every hit (surfel_lookup.h).
+  float hitLatticeStep = 0.7f;
   int surfelGatherSamples = 4;           // hemisphere rays per surfel side and pass
   int gatherSamples = 64;                // gather rays per pixel (split over its samples)
   int gatherSpacing = 2;                 // pixels between final gathers; 1: every camera hit

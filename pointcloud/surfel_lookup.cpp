@@ -137,24 +137,17 @@ long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
   const int mx = hi.x < lo.x ? -1 : 1, my = hi.y < lo.y ? -1 : 1, mz = hi.z < lo.z ? -1 : 1;
   // No cell after the corner's lies nearer than the nearest of the three far faces.
   const float beyondCorner = std::min({gaps[0][1 + mx], gaps[1][1 + my], gaps[2][1 + mz]});
-  float bestAligned = kInf, bestAny = kInf;
-  long aligned = -1, any = -1;
-  // The smaller index wins a tie: the answer does not depend on the order cells are seen.
-  auto better = [](float d2, long i, float best, long bestIndex) {
-    return d2 < best || (d2 == best && i < bestIndex);
-  };
+  NearestSurfelChoice choice(s, p, n);
   // The blocks met so far, by their offset from the point's block (-1, 0 or 1 per axis):
   // the corner's 8 cells lie in 1 to 8 blocks, each looked up once.
   std::array<const Block*, 27> blocks;
   uint32_t fetched = 0;  // bit m: blocks[m] is set
   for (size_t j = 0; j < kCellsNearestFirst.size(); ++j) {
-    // Every metric below is at least the plain squared distance, so a cell whose bound
-    // exceeds both bests holds no surfel that could win or tie.
-    if (j == kCornerCells && beyondCorner > bestAny && beyondCorner > bestAligned) break;
+    if (j == kCornerCells && !choice.couldImprove(beyondCorner)) break;
     const int dx = kCellsNearestFirst[j].dx * mx, dy = kCellsNearestFirst[j].dy * my,
               dz = kCellsNearestFirst[j].dz * mz;
     const float bound = gaps[0][dx + 1] + gaps[1][dy + 1] + gaps[2][dz + 1];
-    if (bound > bestAny && bound > bestAligned) continue;
+    if (!choice.couldImprove(bound)) continue;
     const long x = cx + dx, y = cy + dy, z = cz + dz;
     const int m = static_cast<int>(((x >> 2) - (cx >> 2)) + 3 * ((y >> 2) - (cy >> 2)) +
                                    9 * ((z >> 2) - (cz >> 2)) + 13);
@@ -168,32 +161,10 @@ long SurfelLookup::nearest(const Vec3& p, const Vec3& n) const {
     if (!((block->occupied >> b) & 1u)) continue;
     const uint32_t c = block->firstCell +
                        static_cast<uint32_t>(std::popcount(block->occupied & ((1ull << b) - 1)));
-    for (uint32_t k = cellBegin_[c]; k < cellBegin_[c + 1]; ++k) {
-      const uint32_t i = order_[k];
-      const Vec3 d = s.position(i) - p;
-      // In the squared distance, the distance off the surfel's plane counts 4 times: a
-      // parallel surface close by (the other face of a thin slab) must not win over
-      // this surface's own surfels. The distance behind the surface hit (n faces the
-      // gather ray) counts 64 times: there lie the other faces of slabs narrower than
-      // the spacing (a slat, a ledge), whose side seen from here is the solid's dark
-      // inside (test_buried_surfels.cpp).
-      const float off = dot(d, s.normal(i));
-      const float behind = std::max(0.0f, -dot(d, n));
-      const float d2 = dot(d, d) + 3.0f * off * off + 63.0f * behind * behind;
-      if (better(d2, i, bestAny, any)) {
-        bestAny = d2;
-        any = i;
-      }
-      if (better(d2, i, bestAligned, aligned) && std::abs(dot(s.normal(i), n)) >= 0.5f) {
-        bestAligned = d2;
-        aligned = i;
-      }
-    }
+    for (uint32_t k = cellBegin_[c]; k < cellBegin_[c + 1]; ++k) choice.consider(order_[k]);
   }
-  // Blocks 2^21 apart share keys: a candidate from such a block is not near.
-  const float reach2 = 4.0f * cell_ * cell_;
-  if (aligned >= 0 && bestAligned <= 4.0f * reach2) return aligned;
-  return bestAny <= reach2 ? any : -1;
+  // Blocks 2^21 apart share keys: a candidate from such a block is not near (the reach).
+  return choice.result(cell_);
 }
 
 }  // namespace lvox

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include "pointcloud/buried_surfels.h"
@@ -113,12 +114,36 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   // nearby geometry too (4.02 % against 3.88 % delta on the atrium, docs/results.md).
   o.rayOffset = 0.25f * spacing;
   o.background = seeSky ? ctx.lights.environment() : RGB(0.0f);
-  if (cache.lookup) {
+  if (cache.lattice || cache.lookup) {
     o.tracer = &ctx.tracer;
+    o.lattice = cache.lattice.get();
     o.lookup = cache.lookup.get();
     o.hitLight = cache.hitLight.get();
   }
   return o;
+}
+
+// Ray-traced visibility's surfel at each gather hit: the exact lookup, and from it the
+// triangle lattice unless "hit_lattice_step" is 0. The lookup is dropped once the lattice
+// holds its answers: the gathers read the lattice only.
+void buildHitSurfels(const RenderContext& ctx, const PointCloudSettings& settings, float spacing,
+                     const std::string& sceneFile, PointBasedCache& cache) {
+  auto lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
+  if (settings.hitLatticeStep <= 0.0f) {
+    cache.lookup = std::move(lookup);
+    return;
+  }
+  const float step = settings.hitLatticeStep * spacing;
+  const size_t points = TriangleSurfelLattice::pointsFor(ctx.world.mesh, step);
+  const char* field = "pointcloud.hit_lattice_step";
+  if (points > std::numeric_limits<uint32_t>::max())
+    throw InputError(sceneFile, field,
+                     "the surfel lattice would need " + std::to_string(points) +
+                         " points, more than 2^32 - 1; raise the step or the surfel spacing");
+  if (ctx.budget)
+    ctx.budget->check(TriangleSurfelLattice::bytesFor(ctx.world.mesh, step), sceneFile, field,
+                      "the surfel lattice (" + std::to_string(points) + " points)");
+  cache.lattice = std::make_unique<TriangleSurfelLattice>(ctx.world.mesh, *lookup, step);
 }
 
 // The surfels one process samples, each sampled once across the ranks (cloud_exchange.h):
@@ -244,10 +269,16 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["bytes_per_surfel"] = CloudSurfels::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = cloud.bytesPerNode();
-  const uint64_t lookupBytes = cache.lookup ? cache.lookup->memoryBytes() : 0;
-  if (cache.lookup) report.memory["surfel_lookup"] = lookupBytes;
+  const uint64_t lookupBytes = (cache.lookup ? cache.lookup->memoryBytes() : 0) +
+                               (cache.lattice ? cache.lattice->memoryBytes() : 0);
+  if (cache.lookup) report.memory["surfel_lookup"] = cache.lookup->memoryBytes();
+  if (cache.lattice) {
+    report.memory["surfel_lattice"] = cache.lattice->memoryBytes();
+    report.add("surfel_lattice_points", cache.lattice->points());
+  }
   // Everything the cloud holds per element: the elements, the octree (nodes, clusters,
-  // traversal layout), the surfel lookup, the lvoxel light and the interreflection weights.
+  // traversal layout), the surfel lattice or lookup, the lvoxel light and the
+  // interreflection weights.
   const uint64_t elements = cloud.surfels().size() + cloud.lvoxels().size();
   const auto weights = report.memory.find("interreflection_operator");
   const uint64_t held = mem.total() + lookupBytes + cloud.lvoxels().light.memoryBytes() +
@@ -300,7 +331,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         settings.clusterSolidAngle > 0.0f && settings.gatherVisibility == GatherVisibility::kCloud;
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
     if (settings.gatherVisibility == GatherVisibility::kRays) {
-      cache.lookup = std::make_unique<SurfelLookup>(cache.cloud->surfels(), spacing);
+      buildHitSurfels(ctx, settings, spacing, sceneFile, cache);
       if (!ctx.lights.lights().empty())
         cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
       cache.environmentInGathers = !isBlack(ctx.lights.environment());

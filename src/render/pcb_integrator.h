@@ -11,6 +11,7 @@
 #include "pointcloud/point_cloud.h"
 #include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_lookup.h"
+#include "pointcloud/triangle_surfel_lattice.h"
 #include "src/core/collective.h"
 #include "src/render/delta_hit_light.h"
 #include "src/render/indirect_grid.h"
@@ -30,14 +31,17 @@ struct PointBasedCache {
   // through the media without their phases' forward peaks (pcb_media.h).
   bool reducedShadows = false;
   IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
-  std::unique_ptr<SurfelLookup> lookup;  // "gather_visibility": "rays" only
-  // With a lookup and delta lights in the scene: their light at each gather hit, which the
-  // surfels then leave out (delta_hit_light.h).
+  // "gather_visibility": "rays" only: the surfel standing for each gather ray's hit, from
+  // the triangle lattice, or with "hit_lattice_step" 0 from the exact lookup (one is set).
+  std::unique_ptr<TriangleSurfelLattice> lattice;
+  std::unique_ptr<SurfelLookup> lookup;
+  // With ray-traced visibility and delta lights in the scene: their light at each gather hit, which
+  // the surfels then leave out (delta_hit_light.h).
   std::unique_ptr<DeltaHitLight> hitLight;
-  // With a lookup and a constant environment: the final gathers' rays that leave the cloud
-  // see it, through the lvoxels they passed, and the camera hits' direct light leaves it
-  // out; with interreflection passes too, the surfels' gathers bring their share of it and
-  // their direct light leaves it out (docs/pcb.md, "The environment in the gathers").
+  // With ray-traced visibility and a constant environment: the final gathers' rays that leave the
+  // cloud see it, through the lvoxels they passed, and the camera hits' direct light leaves it out;
+  // with interreflection passes too, the surfels' gathers bring their share of it and their direct
+  // light leaves it out (docs/pcb.md, "The environment in the gathers").
   bool environmentInGathers = false;
   bool surfelEnvironmentInGathers = false;
 };

@@ -101,6 +101,14 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
   expectError(withPointCloud("\"bounces\": 5000"), {"pointcloud.bounces", "outside"});
   expectError(withPointCloud("\"gather_visibility\": \"exact\""),
               {"pointcloud.gather_visibility", "exact"});
+  EXPECT_FLOAT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.hitLatticeStep, 0.7f);
+  EXPECT_FLOAT_EQ(parseScene(withPointCloud("\"hit_lattice_step\": 0"), "/tmp/scene.json")
+                      .pointcloud.hitLatticeStep,
+                  0.0f);
+  expectError(withPointCloud("\"hit_lattice_step\": -0.5"),
+              {"pointcloud.hit_lattice_step", "outside"});
+  expectError(withPointCloud("\"hit_lattice_step\": 20"),
+              {"pointcloud.hit_lattice_step", "outside"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster

@@ -12,10 +12,13 @@
 //   surfel gathers (lvoxels)  the octree part of ray-traced visibility: lvoxels only
 //                             (TraversalOptions::surfels = false) up to Embree's hit
 //   surfel gathers (traced)   the whole gather ray of ray-traced visibility, the default:
-//                             Embree's hit, the lvoxels in front of it, the nearest surfel
-//                             at it (traceGatherRay; the delta lights' shadow rays at the
-//                             hit are light, not traversal, and left out). Its ratio is
-//                             the gather's rate against a bare Embree ray's.
+//                             Embree's hit, the lvoxels in front of it, the surfel the
+//                             triangle lattice gives for it (traceGatherRay; the delta
+//                             lights' shadow rays at the hit are light, not traversal, and
+//                             left out). Its ratio is the gather's rate against a bare
+//                             Embree ray's.
+//   surfel gathers (searched) the same with "hit_lattice_step" 0: the exact nearest-surfel
+//                             search at every hit instead of the lattice
 //   lvoxel gathers (disks)    sphere rays from lvoxel centres with the cloud's own
 //                             visibility
 //   lvoxel gathers (lvoxels)  the same rays, the octree part of ray-traced visibility:
@@ -28,7 +31,8 @@
 // Columns: rays/s of each (millions), their ratio, traversal work per ray (nodes popped +
 // lattice cells marched + elements tested), the share of rays the exact heap traversal
 // took (see traversal.h).
-// Last, the surfel lookup alone: its time per hit point of the surfel gathers' rays.
+// Last, the lattice and the search alone: their times per hit point of the surfel gathers'
+// rays, and how often the lattice gives the search's surfel.
 // Embree traces each workload's rays with RayTracer::intersect (rtcIntersect1). Times are
 // the best of --reps runs, octree and Embree interleaved so that load from other
 // processes hits both alike; one thread is timed by its CPU clock, more threads by the
@@ -50,11 +54,13 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "pointcloud/gather.h"
 #include "pointcloud/surfel_lookup.h"
+#include "pointcloud/triangle_surfel_lattice.h"
 #include "src/render/light_set.h"
 #include "src/render/pcb_integrator.h"
 #include "src/render/render_context.h"
@@ -96,7 +102,7 @@ struct HashSink {
   void surfaceLight(const RGB& weighted) { add(8, 0, weighted); }
 };
 
-enum class Kind { Disks, LvoxelsOnly, Traced };
+enum class Kind { Disks, LvoxelsOnly, Traced, Searched };
 
 struct Workload {
   const char* name;
@@ -194,7 +200,7 @@ uint64_t combine(const std::vector<uint64_t>& perRay) {
 }
 
 Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions& gather,
-                 const GatherOptions& traced, int threads) {
+                 const GatherOptions& traced, const GatherOptions& searched, int threads) {
   tbb::enumerable_thread_specific<TraversalScratch> scratch;
   std::vector<uint64_t> hashes(w.rays.size());
   const TraversalOptions lvoxelsOnly{traced.maxSolidAngle, traced.maxLvoxelSolidAngle, false};
@@ -206,6 +212,8 @@ Timing runOctree(const PointCloud& cloud, const Workload& w, const GatherOptions
       traceGatherRay(cloud, w.rays[k], gather, 1.0f, s, sink);
     } else if (w.kind == Kind::Traced) {
       traceGatherRay(cloud, w.rays[k], traced, 1.0f, s, sink);
+    } else if (w.kind == Kind::Searched) {
+      traceGatherRay(cloud, w.rays[k], searched, 1.0f, s, sink);
     } else {
       GatherRayWeights<HashSink> weights{cloud, sink, 1.0f, traced.minTransmittance, NearField{}};
       traverse(cloud, w.rays[k], weights, lvoxelsOnly, s);
@@ -236,26 +244,54 @@ Timing runEmbree(const RayTracer& tracer, const Workload& w, int threads) {
   return t;
 }
 
-// The surfel lookup alone, on the hit points of the surfel gathers' rays in their order
-// (random over the scene), one thread: its share of a traced gather ray.
-void printLookupAlone(const SurfelLookup& lookup, const RayTracer& tracer,
-                      const std::vector<Ray>& rays, int reps) {
+// The lattice and the search alone, on the hit points of the surfel gathers' rays in their
+// order (random over the scene), one thread: their share of a traced gather ray; and the
+// share of hits (on the side the triangle's normal faces and on the other) where the
+// lattice gives the search's surfel.
+void printHitSurfelsAlone(const TriangleSurfelLattice* lattice, const SurfelLookup& lookup,
+                          const RayTracer& tracer, const std::vector<Ray>& rays, int reps) {
   std::vector<SurfaceHit> hits;
   for (Ray r : rays) {
     r.tmin = 4.0f * tracer.epsilon();  // as traceGatherRay starts a traced ray
     SurfaceHit hit;
     if (tracer.intersect(r, hit)) hits.push_back(hit);
   }
-  double best = 1e30;
+  const double n = static_cast<double>(std::max<size_t>(1, hits.size()));
+  // The answers' sum is printed: it keeps the queries from being optimised away.
   long sum = 0;
-  for (int rep = 0; rep < reps; ++rep) {
-    const double start = threadSeconds();
-    for (const SurfaceHit& h : hits) sum += lookup.nearest(h.point, h.normal);
-    best = std::min(best, threadSeconds() - start);
+  auto best = [&](const auto& query) {
+    double seconds = 1e30;
+    for (int rep = 0; rep < reps; ++rep) {
+      const double start = threadSeconds();
+      for (const SurfaceHit& h : hits) sum += query(h);
+      seconds = std::min(seconds, threadSeconds() - start);
+    }
+    return 1e6 * seconds / n;
+  };
+  const double searchUs =
+      best([&](const SurfaceHit& h) { return lookup.nearest(h.point, h.normal); });
+  std::printf("surfel search alone: %.3f us per hit point (%zu hit points, 1 thread, sum %ld)\n",
+              searchUs, hits.size(), sum);
+  if (!lattice) return;
+  sum = 0;
+  const double latticeUs = best([&](const SurfaceHit& h) { return lattice->nearest(h); });
+  const TriangleMesh& mesh = tracer.mesh();
+  size_t side[2] = {0, 0}, same[2] = {0, 0};
+  for (const SurfaceHit& h : hits) {
+    const Vec3 a = mesh.vertex(h.triangle, 0);
+    const Vec3 face = cross(mesh.vertex(h.triangle, 1) - a, mesh.vertex(h.triangle, 2) - a);
+    const int back = dot(face, h.normal) < 0.0f ? 1 : 0;
+    ++side[back];
+    same[back] += lattice->nearest(h) == lookup.nearest(h.point, h.normal);
   }
-  std::printf("surfel lookup alone: %.3f us per hit point (%zu hit points, 1 thread, sum %ld)\n",
-              1e6 * best / static_cast<double>(std::max<size_t>(1, hits.size())), hits.size(),
-              sum / reps);
+  auto share = [](size_t k, size_t of) {
+    return of ? 100.0 * static_cast<double>(k) / static_cast<double>(of) : 100.0;
+  };
+  std::printf(
+      "surfel lattice alone: %.3f us per hit point (sum %ld); the search's surfel at %.2f %% of "
+      "the hits (%.2f %% of %zu on the normal's side, %.2f %% of %zu on the other)\n",
+      latticeUs, sum, share(same[0] + same[1], hits.size()), share(same[0], side[0]), side[0],
+      share(same[1], side[1]), side[1]);
 }
 
 void runScene(const std::string& path, const Args& args) {
@@ -291,12 +327,22 @@ void runScene(const std::string& path, const Args& args) {
   gather.maxLvoxelSolidAngle = defaultLvoxelClusterSolidAngle(GatherVisibility::kCloud);
   gather.rayOffset = 0.25f * spacing;
   gather.background = RGB(0.0f);
-  // Ray-traced visibility (the default): Embree finds the surface, a lookup its surfel.
+  // Ray-traced visibility (the default): Embree finds the surface, the triangle lattice
+  // its surfel (as buildPointCloud builds it); "searched": the exact search instead.
   const SurfelLookup lookup(cloud.surfels(), spacing);
-  GatherOptions tracedGather = gather;
-  tracedGather.tracer = &tracer;
-  tracedGather.lookup = &lookup;
-  tracedGather.maxLvoxelSolidAngle = defaultLvoxelClusterSolidAngle(GatherVisibility::kRays);
+  const float latticeStep = scene.pointcloud.hitLatticeStep * spacing;
+  const auto latticeStart = std::chrono::steady_clock::now();
+  std::unique_ptr<TriangleSurfelLattice> lattice;
+  if (latticeStep > 0.0f)
+    lattice = std::make_unique<TriangleSurfelLattice>(scene.world.mesh, lookup, latticeStep);
+  const double latticeSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - latticeStart).count();
+  GatherOptions searchedGather = gather;
+  searchedGather.tracer = &tracer;
+  searchedGather.lookup = &lookup;
+  searchedGather.maxLvoxelSolidAngle = defaultLvoxelClusterSolidAngle(GatherVisibility::kRays);
+  GatherOptions tracedGather = searchedGather;
+  tracedGather.lattice = lattice.get();
 
   std::vector<Workload> workloads;
   workloads.push_back({"surfel gathers (disks)", Kind::Disks,
@@ -308,6 +354,8 @@ void runScene(const std::string& path, const Args& args) {
     workloads.push_back(std::move(traced));
   }
   workloads.push_back({"surfel gathers (traced)", Kind::Traced, workloads[0].rays});
+  if (lattice)
+    workloads.push_back({"surfel gathers (searched)", Kind::Searched, workloads[0].rays});
   if (cloud.lvoxels().size() > 0) {
     Workload disks{"lvoxel gathers (disks)", Kind::Disks,
                    lvoxelGatherRays(cloud.lvoxels(), args.rays)};
@@ -328,13 +376,22 @@ void runScene(const std::string& path, const Args& args) {
       static_cast<double>(cloud.memoryBytes()) * 1e-6,
       cloud.lvoxelLattice() ? static_cast<double>(cloud.lvoxelLattice()->memoryBytes()) * 1e-6
                             : 0.0);
+  if (lattice)
+    std::printf(
+        "surfel lattice: step %.2f surfel spacings, %zu points (%.2f per surfel), %.1f MB, "
+        "built in %.2f s (%d threads)\n",
+        static_cast<double>(scene.pointcloud.hitLatticeStep), lattice->points(),
+        static_cast<double>(lattice->points()) /
+            static_cast<double>(std::max<size_t>(1, cloud.surfels().size())),
+        static_cast<double>(lattice->memoryBytes()) * 1e-6, latticeSeconds,
+        tbb::info::default_concurrency());
   std::printf("%-26s %7s %8s %14s %14s %7s %9s %6s  %s\n", "workload", "threads", "rays",
               "octree Mrays/s", "embree Mrays/s", "ratio", "work/ray", "heap", "checksum");
   for (const Workload& w : workloads)
     for (int threads : args.threads) {
       Timing octree, embree;
       for (int rep = 0; rep < args.reps; ++rep) {
-        const Timing o = runOctree(cloud, w, gather, tracedGather, threads);
+        const Timing o = runOctree(cloud, w, gather, tracedGather, searchedGather, threads);
         const Timing e = runEmbree(tracer, w, threads);
         if (o.seconds < octree.seconds) octree = o;
         if (e.seconds < embree.seconds) embree = e;
@@ -346,7 +403,7 @@ void runScene(const std::string& path, const Args& args) {
                   octree.workPerRay, 100.0 * octree.heapShare,
                   static_cast<unsigned long long>(octree.checksum));
     }
-  printLookupAlone(lookup, tracer, workloads[0].rays, args.reps);
+  printHitSurfelsAlone(lattice.get(), lookup, tracer, workloads[0].rays, args.reps);
 }
 
 int usage(const char* argv0) {
