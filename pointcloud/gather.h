@@ -129,7 +129,9 @@ struct GatherRayWeights {
   }
   RGB attenuateChord(const RGB& sigmaT, float chord, float weight) {
     if (!(chord > 0.0f)) return RGB(0.0f);
-    const RGB tr = exp(-sigmaT * chord);
+    // Grey media (smoke, most clouds) need one exponential, not three: the same bits.
+    const RGB tr = sigmaT.x == sigmaT.y && sigmaT.y == sigmaT.z ? RGB(std::exp(-sigmaT.x * chord))
+                                                                : exp(-sigmaT * chord);
     const RGB w = transmittance * (RGB(1.0f) - tr) * weight;
     transmittance *= tr;
     return w;
