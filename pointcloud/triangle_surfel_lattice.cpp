@@ -109,7 +109,9 @@ long TriangleSurfelLattice::nearest(const SurfaceHit& hit) const {
   const uint32_t* points = surfel_.data() + tri.first;
   // The four corners of the lattice cell holding the hit: (i, j), (i + 1, j), (i, j + 1),
   // (i + 1, j + 1), in lattice coordinates (u m1, v m2) of the hit's barycentrics.
-  const float b1 = std::clamp(hit.b1, 0.0f, 1.0f), b2 = std::clamp(hit.b2, 0.0f, 1.0f);
+  // Clamped into the triangle (a NaN to 0: the lattice index must stay in range).
+  auto unit = [](float b) { return std::min(1.0f, std::max(0.0f, b)); };
+  const float b1 = unit(hit.b1), b2 = unit(hit.b2);
   std::array<uint32_t, 4> corners;
   if (tri.apex == kTriangular) {
     const uint32_t m = tri.m1;
