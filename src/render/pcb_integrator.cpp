@@ -269,8 +269,8 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   report.memory["bytes_per_surfel"] = CloudSurfels::bytesPerElement();
   report.memory["bytes_per_lvoxel"] = LvoxelSet::bytesPerElement();
   report.memory["bytes_per_node"] = cloud.bytesPerNode();
-  const uint64_t lookupBytes = (cache.lookup ? cache.lookup->memoryBytes() : 0) +
-                               (cache.lattice ? cache.lattice->memoryBytes() : 0);
+  const uint64_t hitSurfelBytes = (cache.lookup ? cache.lookup->memoryBytes() : 0) +
+                                  (cache.lattice ? cache.lattice->memoryBytes() : 0);
   if (cache.lookup) report.memory["surfel_lookup"] = cache.lookup->memoryBytes();
   if (cache.lattice) {
     report.memory["surfel_lattice"] = cache.lattice->memoryBytes();
@@ -281,7 +281,7 @@ void reportCloud(const PointBasedCache& cache, float spacing, Report& report) {
   // interreflection weights.
   const uint64_t elements = cloud.surfels().size() + cloud.lvoxels().size();
   const auto weights = report.memory.find("interreflection_operator");
-  const uint64_t held = mem.total() + lookupBytes + cloud.lvoxels().light.memoryBytes() +
+  const uint64_t held = mem.total() + hitSurfelBytes + cloud.lvoxels().light.memoryBytes() +
                         (weights == report.memory.end() ? 0 : weights->second);
   if (elements > 0) report.memory["bytes_per_element"] = (held + elements / 2) / elements;
   report.settings["surfel_spacing"] = std::to_string(spacing);
