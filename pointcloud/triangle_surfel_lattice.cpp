@@ -57,8 +57,8 @@ size_t TriangleSurfelLattice::pointsFor(const TriangleMesh& mesh, float step) {
   return total;
 }
 
-size_t TriangleSurfelLattice::bytesFor(const TriangleMesh& mesh, float step) {
-  return pointsFor(mesh, step) * sizeof(uint32_t) + mesh.triangleCount() * sizeof(Triangle);
+size_t TriangleSurfelLattice::bytesFor(size_t points, size_t triangles) {
+  return points * sizeof(uint32_t) + triangles * sizeof(Triangle);
 }
 
 TriangleSurfelLattice::TriangleSurfelLattice(const TriangleMesh& mesh, const SurfelLookup& lookup,

@@ -42,10 +42,10 @@ class TriangleSurfelLattice {
     size_t points() const;
   };
   static Shape shapeOf(const Vec3& a, const Vec3& b, const Vec3& c, float step);
-  // Lattice points over the whole mesh, and the bytes the lattice will hold (before it is
-  // built, for the memory budget).
+  // Lattice points over the whole mesh, and the bytes a lattice of that many points over
+  // that many triangles holds (before it is built, for the memory budget).
   static size_t pointsFor(const TriangleMesh& mesh, float step);
-  static size_t bytesFor(const TriangleMesh& mesh, float step);
+  static size_t bytesFor(size_t points, size_t triangles);
 
   TriangleSurfelLattice() = default;
   // `lookup` answers for the lattice's points; it is read only while the lattice is built.

@@ -141,7 +141,8 @@ void buildHitSurfels(const RenderContext& ctx, const PointCloudSettings& setting
                      "the surfel lattice would need " + std::to_string(points) +
                          " points, more than 2^32 - 1; raise the step or the surfel spacing");
   if (ctx.budget)
-    ctx.budget->check(TriangleSurfelLattice::bytesFor(ctx.world.mesh, step), sceneFile, field,
+    ctx.budget->check(TriangleSurfelLattice::bytesFor(points, ctx.world.mesh.triangleCount()),
+                      sceneFile, field,
                       "the surfel lattice (" + std::to_string(points) + " points)");
   cache.lattice = std::make_unique<TriangleSurfelLattice>(ctx.world.mesh, *lookup, step);
 }

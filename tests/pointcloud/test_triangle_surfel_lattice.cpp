@@ -169,7 +169,7 @@ TEST(TriangleSurfelLattice, ShapesSpendPointsWhereTheSurfelsAre) {
   // (each has 3 at least); about 2 (spacing / step)^2 on large ones.
   const Scene s;
   EXPECT_EQ(s.lattice.points(), Lattice::pointsFor(s.mesh, kStep));
-  EXPECT_EQ(Lattice::bytesFor(s.mesh, kStep), s.lattice.memoryBytes());
+  EXPECT_EQ(Lattice::bytesFor(s.lattice.points(), s.mesh.triangleCount()), s.lattice.memoryBytes());
   const double perSurfel =
       static_cast<double>(s.lattice.points()) / static_cast<double>(s.cloud.surfels().size());
   EXPECT_LT(perSurfel, 6.0);
