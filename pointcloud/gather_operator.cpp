@@ -19,7 +19,7 @@ std::vector<RGB> GatherColumns::values(const PointCloud& cloud,
 }
 
 void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance,
-                               std::vector<RGB>& v, std::vector<RGB>* directional) const {
+                               std::vector<RGB>& v, std::vector<PaddedRGB>* directional) const {
   v.resize(size());
   const CloudSurfels& s = cloud.surfels();
   for (size_t i = 0; i < surfels; ++i) {
@@ -36,12 +36,16 @@ void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRad
   if (!directional || !this->directional()) return;
   const auto count = static_cast<size_t>(coefficients);
   directional->resize((lvoxels + lvoxelClusters) * count);
-  for (size_t i = 0; i < lvoxels; ++i)
-    cloud.lvoxels().sourceCoefficients(i, directional->data() + i * count);
-  for (size_t n = 0; n < lvoxelClusters; ++n) {
-    const RGB* c = cloud.lvoxelClusterCoefficients(index(n));
-    std::copy(c, c + count, directional->data() + (lvoxels + n) * count);
+  auto pad = [&](size_t column, const RGB* c) {
+    PaddedRGB* out = directional->data() + column * count;
+    for (size_t k = 0; k < count; ++k) out[k] = PaddedRGB{{c[k].x, c[k].y, c[k].z, 0.0f}};
+  };
+  RGB source[kShCoefficients];
+  for (size_t i = 0; i < lvoxels; ++i) {
+    cloud.lvoxels().sourceCoefficients(i, source);
+    pad(i, source);
   }
+  for (size_t n = 0; n < lvoxelClusters; ++n) pad(lvoxels + n, cloud.lvoxelClusterCoefficients(index(n)));
 }
 
 // Rays of one gather often reach the same element: one entry per column (per ray and

@@ -8,6 +8,9 @@
 // series costs little more than its first pass.
 #include <Imath/half.h>
 #include <tbb/parallel_for.h>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <cstddef>
@@ -21,6 +24,13 @@
 #include "src/core/spherical_harmonics.h"
 
 namespace lvox {
+
+// A directional column's coefficient as a pass reads it: red, green, blue and a zero, one
+// SIMD register. A ray's radiance from an lvoxel is then `coefficients` multiply-adds of
+// whole registers (GatherOperator::applyBlock, the passes' hot loop in anisotropic media).
+struct alignas(16) PaddedRGB {
+  float c[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+};
 
 // Columns: every radiance a gather ray can pick up, in one flat vector. A surfel cluster
 // has one column per power coefficient (surfel_cluster.h): its radiance along a ray is
@@ -52,7 +62,7 @@ struct GatherColumns {
   // lvoxels also their source coefficients into `directional` (coefficients per column
   // from firstDirectional() on).
   void valuesInto(const PointCloud& cloud, const RGB& backgroundRadiance, std::vector<RGB>& v,
-                  std::vector<RGB>* directional = nullptr) const;
+                  std::vector<PaddedRGB>* directional = nullptr) const;
 
  private:
   static uint32_t index(size_t i) { return static_cast<uint32_t>(i); }
@@ -122,7 +132,7 @@ struct GatherRecorder {
 // source coefficients (GatherColumns::valuesInto).
 struct GatherValues {
   std::vector<RGB> plain;
-  std::vector<RGB> directional;
+  std::vector<PaddedRGB> directional;
 };
 
 class GatherOperator {
@@ -193,6 +203,21 @@ class GatherOperator {
   static void appendMerged(std::vector<GatherEntry>& row, const std::vector<Vec3>* rays,
                            std::vector<GatherEntry>& entries, Block& block);
   static void store(const std::vector<GatherEntry>& entries, Block& block);
+  // A directional column's radiance along one ray: shDot of its kShCoefficients padded
+  // coefficients (directional columns have all of them) with the ray's Yhat, clamped at
+  // zero; the Yhat are broadcast once per ray.
+  class DirectionalDot {
+   public:
+    explicit DirectionalDot(const float* yhat);
+    RGB operator()(const PaddedRGB* c) const;
+
+   private:
+#if defined(__SSE2__)
+    __m128 yhat_[kShCoefficients];
+#else
+    float yhat_[kShCoefficients];
+#endif
+  };
   template <class Weight, class Sink>
   void applyBlock(const Block& block, const Weight& weight, size_t firstRow,
                   const GatherValues& values, Sink& sink) const;
@@ -243,6 +268,37 @@ GatherOperator::GatherOperator(const PointCloud& cloud, size_t rows, RecordRow&&
   });
 }
 
+inline GatherOperator::DirectionalDot::DirectionalDot(const float* yhat) {
+  for (int k = 0; k < kShCoefficients; ++k) {
+#if defined(__SSE2__)
+    yhat_[k] = _mm_set1_ps(yhat[k]);
+#else
+    yhat_[k] = yhat[k];
+#endif
+  }
+}
+
+inline RGB GatherOperator::DirectionalDot::operator()(const PaddedRGB* c) const {
+#if defined(__SSE2__)
+  // Two sums, the even and the odd coefficients: half the chain of dependent adds.
+  static_assert(kShCoefficients % 2 == 1, "coefficient 0, then pairs");
+  __m128 even = _mm_mul_ps(_mm_load_ps(c[0].c), yhat_[0]);
+  __m128 odd = _mm_setzero_ps();
+  for (int k = 1; k < kShCoefficients; k += 2) {
+    odd = _mm_add_ps(odd, _mm_mul_ps(_mm_load_ps(c[k].c), yhat_[k]));
+    even = _mm_add_ps(even, _mm_mul_ps(_mm_load_ps(c[k + 1].c), yhat_[k + 1]));
+  }
+  alignas(16) float v[4];
+  _mm_store_ps(v, _mm_max_ps(_mm_add_ps(even, odd), _mm_setzero_ps()));
+  return RGB(v[0], v[1], v[2]);
+#else
+  RGB sum(0.0f);
+  for (int k = 0; k < kShCoefficients; ++k)
+    sum += RGB(c[k].c[0], c[k].c[1], c[k].c[2]) * yhat_[k];
+  return nonNegative(sum);
+#endif
+}
+
 template <class Weight, class Sink>
 void GatherOperator::applyBlock(const Block& block, const Weight& weight, size_t firstRow,
                                 const GatherValues& values, Sink& sink) const {
@@ -260,21 +316,22 @@ void GatherOperator::applyBlock(const Block& block, const Weight& weight, size_t
   // Per ray: its radiance, with directional columns evaluated along it, projected on the
   // spherical harmonics of its direction.
   const int count = columns_.coefficients;
+  LVOX_DCHECK(count == kShCoefficients, "directional columns carry every coefficient");
   const uint32_t first = columns_.firstDirectional();
-  const RGB* coefficients = values.directional.data();
+  const PaddedRGB* coefficients = values.directional.data();
   uint32_t ray = 0;
   for (size_t k = 0; k < block.rowEnd.size(); ++k) {
     RGB out[kShCoefficients];
     std::fill(out, out + count, RGB(0.0f));
     for (; ray < block.rowEnd[k]; ++ray) {
       float yhat[kShCoefficients];
-      shBasis(block.rayDirection[ray], count, yhat);
+      shBasis(block.rayDirection[ray], kShCoefficients, yhat);
+      const DirectionalDot along(yhat);
       RGB sum(0.0f);
       for (uint32_t e = begin; e < block.rayEnd[ray]; ++e) {
         const uint32_t c = block.column[e];
         const RGB value =
-            c < first ? plain[c]
-                      : shDot(coefficients + static_cast<size_t>(c - first) * count, yhat, count);
+            c < first ? plain[c] : along(coefficients + static_cast<size_t>(c - first) * count);
         sum += value * weight[e];
       }
       begin = block.rayEnd[ray];
