@@ -45,7 +45,8 @@ void GatherColumns::valuesInto(const PointCloud& cloud, const RGB& backgroundRad
     cloud.lvoxels().sourceCoefficients(i, source);
     pad(i, source);
   }
-  for (size_t n = 0; n < lvoxelClusters; ++n) pad(lvoxels + n, cloud.lvoxelClusterCoefficients(index(n)));
+  for (size_t n = 0; n < lvoxelClusters; ++n)
+    pad(lvoxels + n, cloud.lvoxelClusterCoefficients(index(n)));
 }
 
 // Rays of one gather often reach the same element: one entry per column (per ray and

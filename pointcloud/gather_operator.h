@@ -293,8 +293,7 @@ inline RGB GatherOperator::DirectionalDot::operator()(const PaddedRGB* c) const 
   return RGB(v[0], v[1], v[2]);
 #else
   RGB sum(0.0f);
-  for (int k = 0; k < kShCoefficients; ++k)
-    sum += RGB(c[k].c[0], c[k].c[1], c[k].c[2]) * yhat_[k];
+  for (int k = 0; k < kShCoefficients; ++k) sum += RGB(c[k].c[0], c[k].c[1], c[k].c[2]) * yhat_[k];
   return nonNegative(sum);
 #endif
 }

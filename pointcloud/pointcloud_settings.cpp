@@ -42,6 +42,8 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
+  s.surfelLightSamples = p.integer("surfel_light_samples", 1, 1 << 16, s.surfelLightSamples);
+  s.lvoxelLightSamples = p.integer("lvoxel_light_samples", 1, 1 << 16, s.lvoxelLightSamples);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
@@ -71,6 +73,8 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_near_samples", s.lvoxelNearSamples);
   l.add(p + "lvoxel_near_reach", s.lvoxelNearReach);
   l.add(p + "bounces", s.bounces);
+  l.add(p + "surfel_light_samples", s.surfelLightSamples);
+  l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);

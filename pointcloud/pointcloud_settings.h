@@ -27,7 +27,13 @@ struct PointCloudSettings {
   int lvoxelNearSamples = 64;
   float lvoxelNearReach = 2.0f;  // lvoxel cube sides; 0: no near field of its own
   int bounces = 24;              // interreflection passes (surfels and lvoxels)
-  float burialReach = 4.0f;      // surfel spacings; 0 keeps buried surfels
+  // Shadow rays per area light (and per sky) for the direct light the cloud caches, in
+  // place of render.area_light_samples: a surfel's light reaches the image only through
+  // gathers that average many surfels, an lvoxel's through trilinear interpolation
+  // (docs/pcb.md, "The cloud's light samples").
+  int surfelLightSamples = 4;
+  int lvoxelLightSamples = 8;
+  float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
   // surfel standing for a gather ray's hit (triangle_surfel_lattice.h); 0: the exact

@@ -213,16 +213,25 @@ void removeBuried(const RenderContext& ctx, float reach, SurfelSet& surfels, Col
 }
 
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
-// lvoxel cells (their light, pcb_media.h).
-void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointBasedCache& cache,
+// lvoxel cells (their light, pcb_media.h), each with its own number of area-light and sky
+// samples (pointcloud.surfel_light_samples and lvoxel_light_samples).
+void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
+                 const PointCloudSettings& settings, PointBasedCache& cache,
                  rte::SolveCounts& counts, Collective& team, Report& report) {
   PointCloud& cloud = *cache.cloud;
   LvoxelLight& lvoxelLight = cloud.mutableLvoxels().light;
+  // The same lights with the cloud's own number of area and sky samples.
+  const auto withSamples = [&](const LightSet& lights) {
+    return RenderContext{ctx.world, ctx.settings, ctx.tracer, lights, ctx.budget};
+  };
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_direct");  // a part of "direct_cache"
+    const LightSet lvoxelLights(ctx.world, settings.lvoxelLightSamples);
     report.work["lvoxel_direct_cells"] +=
-        cacheLvoxelDirectLight(ctx, volume, lvoxelLight, counts, team);
+        cacheLvoxelDirectLight(withSamples(lvoxelLights), volume, lvoxelLight, counts, team);
   }
+  const LightSet surfelLights(ctx.world, settings.surfelLightSamples);
+  const RenderContext surfelCtx = withSamples(surfelLights);
   tbb::combinable<rte::SolveCounts> perThread;
   cacheDirectLight(
       cloud,
@@ -246,7 +255,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume, PointB
         // sky may come through their escaping rays.
         const LightSubset lights{.delta = !cache.hitLight,
                                  .constantEnvironment = !cache.surfelEnvironmentInGathers};
-        return surfaceDirect(ctx, hit, q.albedo, rng, throughMedia, rays, lights);
+        return surfaceDirect(surfelCtx, hit, q.albedo, rng, throughMedia, rays, lights);
       },
       [&](const LvoxelLightQuery& q, RGB* out) {
         cloudDirectLight(ctx.lights, lvoxelLight, q.slot, out);
@@ -342,7 +351,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   rte::SolveCounts counts;
   {
     PhaseTimer timer(report, "direct_cache");
-    cacheDirect(ctx, volume, cache, counts, team, report);
+    cacheDirect(ctx, volume, settings, cache, counts, team, report);
   }
   const int passes = settings.bounces;
   if (passes > 0) {

@@ -109,6 +109,18 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.hit_lattice_step", "outside"});
   expectError(withPointCloud("\"hit_lattice_step\": 20"),
               {"pointcloud.hit_lattice_step", "outside"});
+  const Scene minimal = parseScene(kMinimal, "/tmp/scene.json");
+  EXPECT_EQ(minimal.pointcloud.surfelLightSamples, 4);
+  EXPECT_EQ(minimal.pointcloud.lvoxelLightSamples, 8);
+  EXPECT_EQ(parseScene(withPointCloud("\"surfel_light_samples\": 64"), "/tmp/scene.json")
+                .pointcloud.surfelLightSamples,
+            64);
+  expectError(withPointCloud("\"surfel_light_samples\": 0"),
+              {"pointcloud.surfel_light_samples", "outside"});
+  expectError(withPointCloud("\"lvoxel_light_samples\": 0"),
+              {"pointcloud.lvoxel_light_samples", "outside"});
+  expectError(withPointCloud("\"lvoxel_light_samples\": \"many\""),
+              {"pointcloud.lvoxel_light_samples"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
