@@ -513,5 +513,12 @@ TEST(Scenes, OpenTownRendersWhenPresent) {
   expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/open_town.json", "direct");
 }
 
+TEST(Scenes, LampHallRendersWhenPresent) {
+  for (const char* asset : {"bunny/bun_zipper.obj", "vdb/smoke.vdb"})
+    if (!fs::exists(std::string(LVOX_SHARED_DIR) + "/assets/" + asset))
+      GTEST_SKIP() << "shared asset absent: " << asset;
+  expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/lamp_hall.json", "direct");
+}
+
 }  // namespace
 }  // namespace lvox
