@@ -19,6 +19,8 @@ uint32_t LvoxelLight::occupy(long cell) {
     centre_.push_back(grid_.centre(cell));
     transmittance_.resize(cell_.size() * deltaLights_, RGB(0.0f));
     towardsCamera_.resize(cell_.size() * phases_, RGB(0.0f));
+    clear_.resize(cell_.size() * cameraStride(), RGB(0.0f));
+    depthsFinished_ = false;
     area_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
     direct_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
     multi_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
@@ -44,6 +46,36 @@ void LvoxelLight::setChannels(size_t deltaLights, size_t phases) {
   phases_ = phases;
   transmittance_.assign(cell_.size() * deltaLights, RGB(0.0f));
   towardsCamera_.assign(cell_.size() * phases, RGB(0.0f));
+  clear_.assign(cell_.size() * cameraStride(), RGB(0.0f));
+  blendable_.clear();
+  depthsFinished_ = false;
+}
+
+void LvoxelLight::finishCameraChannels() {
+  // Deeper than this the light is e^-80 of its clear value: nothing a float shows.
+  constexpr float kMaxDepth = 80.0f;
+  const size_t stride = cameraStride();
+  LVOX_CHECK(clear_.size() == cell_.size() * stride, "lvoxel light: no clear channels");
+  blendable_.resize(clear_.size());
+  for (size_t slot = 0; slot < cell_.size(); ++slot)
+    for (size_t k = 0; k < stride; ++k) {
+      const RGB attenuated = k < deltaLights_ ? transmittance_[slot * deltaLights_ + k]
+                                              : towardsCamera_[slot * phases_ + k - deltaLights_];
+      Blendable& b = blendable_[slot * stride + k];
+      b.clear = clear_[slot * stride + k];
+      for (int c = 0; c < 3; ++c)
+        b.depth[c] = b.clear[c] > 0.0f && attenuated[c] > 0.0f
+                         ? std::clamp(-std::log(attenuated[c] / b.clear[c]), 0.0f, kMaxDepth)
+                         : (b.clear[c] > 0.0f ? kMaxDepth : 0.0f);
+      // Colours whose depths agree to rounding (grey media) share one, so that blending
+      // them takes one exponential.
+      const float mean = average(b.depth);
+      if (std::abs(b.depth.x - mean) <= 1e-6f * mean &&
+          std::abs(b.depth.y - mean) <= 1e-6f * mean && std::abs(b.depth.z - mean) <= 1e-6f * mean)
+        b.depth = RGB(mean);
+    }
+  std::vector<RGB>().swap(clear_);
+  depthsFinished_ = true;
 }
 
 bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
@@ -60,6 +92,9 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
     frac[a] = u - f;
   }
   float weightSum = 0.0f;
+  int corners = 0;
+  size_t slots[8];
+  float weights[8];
   for (int corner = 0; corner < 8; ++corner) {
     long c[3];
     float w = 1.0f;
@@ -73,28 +108,79 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
     if (!inside || w <= 0.0f) continue;
     const int32_t s = slotOfCell_[grid_.index(c[0], c[1], c[2])];
     if (s < 0) continue;
-    const auto slot = static_cast<size_t>(s);
-    const RGB* tr = transmittance_.data() + slot * deltaLights_;
-    for (size_t k = 0; k < deltaLights_; ++k) out.transmittance[k] += tr[k] * w;
-    const RGB* multi = multi_.data() + slot * coefficientStride();
-    for (size_t k = 0; k < coefficientStride(); ++k) out.multiScatter[k] += multi[k] * w;
-    const RGB* camera = towardsCamera_.data() + slot * phases_;
-    for (size_t m = 0; m < phases_; ++m) out.towardsCamera[m] += camera[m] * w;
+    slots[corners] = static_cast<size_t>(s);
+    weights[corners++] = w;
     weightSum += w;
   }
   if (!(weightSum > 0.0f)) return false;
   const float inv = 1.0f / weightSum;
-  for (RGB& t : out.transmittance) t *= inv;
+  for (int i = 0; i < corners; ++i) {
+    const RGB* multi = multi_.data() + slots[i] * coefficientStride();
+    for (size_t k = 0; k < coefficientStride(); ++k) out.multiScatter[k] += multi[k] * weights[i];
+  }
   for (RGB& c : out.multiScatter) c *= inv;
-  for (RGB& c : out.towardsCamera) c *= inv;
+  blendCameraChannels(slots, weights, corners, weightSum, out);
   return true;
+}
+
+namespace {
+
+// exp(-depth / weight) per colour (1 where the weight is zero): one exponential where the
+// colours agree, as they do in grey media and white lights.
+RGB attenuation(const RGB& depth, float weight) {
+  if (!(weight > 0.0f)) return RGB(1.0f);
+  auto one = [&](float d) { return d > 0.0f ? std::exp(-d / weight) : 1.0f; };
+  if (depth.x == depth.y && depth.y == depth.z) return RGB(one(depth.x));
+  return RGB(one(depth.x), one(depth.y), one(depth.z));
+}
+
+}  // namespace
+
+void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights, int corners,
+                                      float weightSum, LvoxelLightSample& out) const {
+  const float inv = 1.0f / weightSum;
+  auto linear = [&](size_t k) {
+    const bool delta = k < deltaLights_;
+    const RGB* values =
+        delta ? transmittance_.data() + k : towardsCamera_.data() + (k - deltaLights_);
+    const size_t stride = delta ? deltaLights_ : phases_;
+    RGB sum(0.0f);
+    for (int i = 0; i < corners; ++i) sum += values[slots[i] * stride] * weights[i];
+    return sum * inv;
+  };
+  LVOX_CHECK(blend_ == LvoxelLightBlend::kLinear || depthsFinished_ || cameraStride() == 0,
+             "lvoxel light: exponential blend before finishCameraChannels");
+  auto exponential = [&](size_t k) {
+    const size_t stride = cameraStride();
+    RGB clear(0.0f), depth(0.0f);
+    float depthWeight = 0.0f;
+    for (int i = 0; i < corners; ++i) {
+      const Blendable& b = blendable_[slots[i] * stride + k];
+      clear += b.clear * weights[i];
+      // A corner the light does not reach has no depth to give (its colours are all dark,
+      // or the light has none of that colour).
+      if (b.clear.x + b.clear.y + b.clear.z > 0.0f) {
+        depth += b.depth * weights[i];
+        depthWeight += weights[i];
+      }
+    }
+    return clear * inv * attenuation(depth, depthWeight);
+  };
+  for (size_t k = 0; k < cameraStride(); ++k) {
+    const RGB value = blend_ == LvoxelLightBlend::kLinear ? linear(k) : exponential(k);
+    if (k < deltaLights_)
+      out.transmittance[k] = value;
+    else
+      out.towardsCamera[k - deltaLights_] = value;
+  }
 }
 
 size_t LvoxelLight::memoryBytes() const {
   return slotOfCell_.size() * sizeof(int32_t) + cell_.size() * (sizeof(long) + sizeof(Vec3)) +
-         (transmittance_.size() + towardsCamera_.size() + area_.size() + direct_.size() +
-          multi_.size()) *
-             sizeof(RGB);
+         (transmittance_.size() + towardsCamera_.size() + clear_.size() + area_.size() +
+          direct_.size() + multi_.size()) *
+             sizeof(RGB) +
+         blendable_.size() * sizeof(Blendable);
 }
 
 }  // namespace lvox

@@ -10,6 +10,8 @@ constexpr Named<GatherVisibility> kVisibilityNames[] = {{GatherVisibility::kClou
                                                         {GatherVisibility::kRays, "rays"}};
 constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUniform, "uniform"},
                                                       {SurfelSamplerKind::kCamera, "camera"}};
+constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
+                                                   {LvoxelLightBlend::kExponential, "exponential"}};
 
 }  // namespace
 
@@ -26,6 +28,13 @@ SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& f
 }
 
 std::string_view surfelSamplerName(SurfelSamplerKind s) { return nameOf(s, kSamplerNames); }
+
+LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
+                                       const std::string& field) {
+  return parseNamed(name, kBlendNames, "blend", file, field);
+}
+
+std::string_view lvoxelLightBlendName(LvoxelLightBlend b) { return nameOf(b, kBlendNames); }
 
 float defaultLvoxelClusterSolidAngle(GatherVisibility v) {
   return v == GatherVisibility::kCloud ? 0.03f : 0.0f;
@@ -44,6 +53,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
   s.surfelLightSamples = p.integer("surfel_light_samples", 1, 1 << 16, s.surfelLightSamples);
   s.lvoxelLightSamples = p.integer("lvoxel_light_samples", 1, 1 << 16, s.lvoxelLightSamples);
+  s.lvoxelLightBlend =
+      p.choice("lvoxel_light_blend", std::string(lvoxelLightBlendName(s.lvoxelLightBlend)),
+               parseLvoxelLightBlend);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
@@ -75,6 +87,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "bounces", s.bounces);
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
+  l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);

@@ -4,6 +4,7 @@
 #include <string>
 #include <string_view>
 
+#include "pointcloud/lvoxel_light.h"
 #include "src/core/json_fields.h"
 #include "src/core/setting_list.h"
 
@@ -33,6 +34,9 @@ struct PointCloudSettings {
   // (docs/pcb.md, "The cloud's light samples").
   int surfelLightSamples = 4;
   int lvoxelLightSamples = 8;
+  // How camera rays blend the lvoxels' direct light between cell centres (lvoxel_light.h;
+  // docs/pcb.md, "Blending the cells' light").
+  LvoxelLightBlend lvoxelLightBlend = LvoxelLightBlend::kExponential;
   float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
@@ -63,5 +67,8 @@ std::string_view gatherVisibilityName(GatherVisibility v);
 SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& file,
                                      const std::string& field);
 std::string_view surfelSamplerName(SurfelSamplerKind s);
+LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
+                                       const std::string& field);
+std::string_view lvoxelLightBlendName(LvoxelLightBlend b);
 
 }  // namespace lvox

@@ -227,6 +227,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
   if (cache.lvoxels) {
     PhaseTimer timer(report, "lvoxel_direct");  // a part of "direct_cache"
     const LightSet lvoxelLights(ctx.world, settings.lvoxelLightSamples);
+    lvoxelLight.setBlend(settings.lvoxelLightBlend);
     report.work["lvoxel_direct_cells"] +=
         cacheLvoxelDirectLight(withSamples(lvoxelLights), volume, lvoxelLight, counts, team);
   }

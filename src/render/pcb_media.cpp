@@ -47,17 +47,24 @@ std::vector<Bounds3> activeBoxes(const Medium& m) {
   return {m.bounds};
 }
 
-// Visibility x transmittance from x towards a light sample (`reduced`: without the
-// media's forward peaks, VolumeTransport::transmittance).
-RGB lightTransmittance(const RenderContext& ctx, const VolumeTransport& volume, const Vec3& x,
-                       const Vec3& wi, float distance, bool reduced, rte::SolveCounts& counts) {
+// The path from x towards a light sample: whether a surface blocks it, and if not the
+// media's transmittance along it (`reduced`: without the media's forward peaks,
+// VolumeTransport::transmittance).
+struct LightPath {
+  bool visible = false;
+  RGB transmittance{0.0f};
+  RGB clear() const { return RGB(visible ? 1.0f : 0.0f); }
+};
+
+LightPath lightPath(const RenderContext& ctx, const VolumeTransport& volume, const Vec3& x,
+                    const Vec3& wi, float distance, bool reduced, rte::SolveCounts& counts) {
   Ray shadow;
   shadow.origin = x;
   shadow.dir = wi;
   shadow.tmin = 0.0f;
   shadow.tmax = std::isinf(distance) ? kInf : distance * (1.0f - 1e-4f);
-  if (ctx.tracer.occluded(shadow)) return RGB(0.0f);
-  return volume.transmittance(shadow, counts, reduced);
+  if (ctx.tracer.occluded(shadow)) return {};
+  return {true, volume.transmittance(shadow, counts, reduced)};
 }
 
 // Anisotropic media give the cloud directional lvoxels (delta-M, docs/pcb.md): each keeps
@@ -142,6 +149,7 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
     rte::SolveCounts& local = perThread.local();
     const Vec3 x = light.centre(static_cast<uint32_t>(slot));
     RGB* transmittance = light.transmittance(static_cast<uint32_t>(slot));
+    RGB* visibility = light.transmittanceClear(static_cast<uint32_t>(slot));
     for (size_t k = 0; k < deltaCount; ++k) {
       const LightSample s = lights.sampleDelta(lights.lights()[k], x);
       // A spot light's cone does not decide the shadowing: the centre may lie outside the
@@ -149,9 +157,11 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
       const Light& l = lights.lights()[k];
       const Vec3 wi = l.type == LightType::Directional ? -l.direction : s.wi;
       const float distance = l.type == LightType::Directional ? kInf : length(l.position - x);
-      transmittance[k] = distance > 0.0f
-                             ? lightTransmittance(ctx, volume, x, wi, distance, reduced, local)
-                             : RGB(1.0f);
+      const LightPath path = distance > 0.0f
+                                 ? lightPath(ctx, volume, x, wi, distance, reduced, local)
+                                 : LightPath{true, RGB(1.0f)};
+      transmittance[k] = path.transmittance;
+      visibility[k] = path.clear();
     }
     Rng rng(ctx.settings.seed ^ 0x1f0e1u, slot);
     // Samples are weighted 1/pdf already: their sum estimates the integral of L dw, and
@@ -159,14 +169,19 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
     const auto cell = static_cast<uint32_t>(slot);
     const Vec3 viewDir = normalize(x - ctx.world.camera.position);
     RGB* towardsCamera = light.towardsCamera(cell);
+    RGB* towardsCameraClear = light.towardsCameraClear(cell);
     RGB* area = light.areaInScatter(cell);  // (1 / 4 pi) sum of L Yhat_k: mean, harmonics
     const int count = light.coefficients();
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
-      const RGB arriving =
-          s.radiance * lightTransmittance(ctx, volume, x, s.wi, s.distance, reduced, local);
+      const LightPath path = lightPath(ctx, volume, x, s.wi, s.distance, reduced, local);
+      const RGB arriving = s.radiance * path.transmittance;
+      const RGB arrivingClear = s.radiance * path.clear();
       const float cosTheta = dot(s.wi, viewDir);
-      for (size_t m = 0; m < media.size(); ++m)
-        towardsCamera[m] += arriving * media[m].phase.eval(cosTheta);
+      for (size_t m = 0; m < media.size(); ++m) {
+        const float phase = media[m].phase.eval(cosTheta);
+        towardsCamera[m] += arriving * phase;
+        towardsCameraClear[m] += arrivingClear * phase;
+      }
       float yhat[kShCoefficients];
       shBasis(s.wi, count, yhat);
       for (int k = 0; k < count; ++k) area[k] += arriving * (yhat[k] * kInv4Pi);
@@ -174,6 +189,7 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   });
   perThread.combine_each([&](const rte::SolveCounts& c) { counts += c; });
   if (team.distributed()) light.sumDirectOverRanks(team);
+  light.finishCameraChannels();
   size_t lit = 0;
   for (size_t slot = 0; slot < light.occupiedCount(); slot += kLvoxelDirectBlock)
     if (mine(slot)) lit += std::min(kLvoxelDirectBlock, light.occupiedCount() - slot);

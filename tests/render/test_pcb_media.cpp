@@ -41,6 +41,29 @@ TEST(PointBasedMedia, SingleScatteringMatchesTheSlabClosedForm) {
   EXPECT_GT(px.report.memory.at("lvoxel_light"), 0u);
 }
 
+// The same closed form in a thick slab (sigma_t 10, 0 < y < 0.4) on a coarse grid: the
+// light's optical depth changes by 1.25 between the centres at y = 0.15 and 0.25, and the
+// camera ray runs halfway between them at y = 0.2 (s0 = 0.25). Blending the optical depth
+// is exact for that falloff; blending the transmittance gives
+// (e^-1.875 + e^-3.125) / 2 = 1.202 e^-2.5 (lvoxel_light.h).
+TEST(PointBasedMedia, SingleScatteringInAThickSlabBlendsTheOpticalDepth) {
+  auto scene = [](const std::string& blend) {
+    return R"({
+    "camera": {"position": [-12, 0.2, 0], "look_at": [1, 0.2, 0], "vfov_deg": 0.001, "width": 1, "height": 1},
+    "lights": [{"type": "directional", "direction": [-0.6, -0.8, 0], "irradiance": 2}],
+    "media": [{"type": "homogeneous", "min": [-10, 0, -2], "max": [10, 0.4, 2],
+               "sigma_a": 1, "sigma_s": 9}],
+    "volume_integrator": {"solver": "rk4", "step": 0.01},
+    "pointcloud": {"lvoxel_spacing": 0.1, "bounces": 0, "lvoxel_light_blend": ")" +
+           blend + R"("}})";
+  };
+  const double sigmaT = 10.0, sigmaS = 9.0, s0 = 0.2 / 0.8, d = 20.0;
+  const double expected =
+      sigmaS / (4 * M_PI) * 2.0 * std::exp(-sigmaT * s0) * (1 - std::exp(-sigmaT * d)) / sigmaT;
+  EXPECT_NEAR(renderPixel(scene("exponential"), "pcb").value.x, expected, 5e-3 * expected);
+  EXPECT_NEAR(renderPixel(scene("linear"), "pcb").value.x / expected, 1.202, 0.01);
+}
+
 // Oracle 2.2 (b): point light I = 10 at (2, 0.5, 0) inside fog, camera at the origin
 // looking along x, d = 5; exact 0.268894006206365554. The 1/r^2 falloff and the phase are
 // evaluated exactly along the ray; only the transmittance to the light is interpolated.

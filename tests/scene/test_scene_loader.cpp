@@ -121,6 +121,12 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.lvoxel_light_samples", "outside"});
   expectError(withPointCloud("\"lvoxel_light_samples\": \"many\""),
               {"pointcloud.lvoxel_light_samples"});
+  EXPECT_EQ(minimal.pointcloud.lvoxelLightBlend, LvoxelLightBlend::kExponential);
+  EXPECT_EQ(parseScene(withPointCloud("\"lvoxel_light_blend\": \"linear\""), "/tmp/scene.json")
+                .pointcloud.lvoxelLightBlend,
+            LvoxelLightBlend::kLinear);
+  expectError(withPointCloud("\"lvoxel_light_blend\": \"cubic\""),
+              {"pointcloud.lvoxel_light_blend", "cubic"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
