@@ -84,6 +84,7 @@ class LvoxelLight {
   RGB* towardsCamera(uint32_t slot) { return towardsCamera_.data() + slot * phases_; }
   // The same channels without the media's attenuation: per delta light its visibility
   // (1 or 0 per colour), per phase the light towards the camera through empty space.
+  // Written while the direct light is cached; released by finishCameraChannels.
   RGB* transmittanceClear(uint32_t slot) { return clear_.data() + slot * cameraStride(); }
   RGB* towardsCameraClear(uint32_t slot) {
     return clear_.data() + slot * cameraStride() + deltaLights_;
