@@ -36,7 +36,7 @@ namespace lvox {
 //     optical depth is a line integral, as smooth in its starting point as the medium is,
 //     so it blends linearly where its exponential does not: through a thick medium the
 //     light falls exponentially across a cell, which a linear blend of the transmittance
-//     overestimates (by 1.55x on average over a cell of optical depth 2.7). Geometry's
+//     overestimates (by 1.54x on average over a cell of optical depth 2.7). Geometry's
 //     shadows stay in the clear part and blend linearly, as before.
 enum class LvoxelLightBlend { kLinear, kExponential };
 
