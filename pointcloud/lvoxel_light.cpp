@@ -20,7 +20,6 @@ uint32_t LvoxelLight::occupy(long cell) {
     transmittance_.resize(cell_.size() * deltaLights_, RGB(0.0f));
     towardsCamera_.resize(cell_.size() * phases_, RGB(0.0f));
     clear_.resize(cell_.size() * cameraStride(), RGB(0.0f));
-    depthsFinished_ = false;
     area_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
     direct_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
     multi_.resize(cell_.size() * coefficientStride(), RGB(0.0f));
@@ -48,7 +47,6 @@ void LvoxelLight::setChannels(size_t deltaLights, size_t phases) {
   towardsCamera_.assign(cell_.size() * phases, RGB(0.0f));
   clear_.assign(cell_.size() * cameraStride(), RGB(0.0f));
   blendable_.clear();
-  depthsFinished_ = false;
 }
 
 void LvoxelLight::finishCameraChannels() {
@@ -59,8 +57,7 @@ void LvoxelLight::finishCameraChannels() {
   blendable_.resize(clear_.size());
   for (size_t slot = 0; slot < cell_.size(); ++slot)
     for (size_t k = 0; k < stride; ++k) {
-      const RGB attenuated = k < deltaLights_ ? transmittance_[slot * deltaLights_ + k]
-                                              : towardsCamera_[slot * phases_ + k - deltaLights_];
+      const RGB& attenuated = attenuatedChannel(slot, k);
       Blendable& b = blendable_[slot * stride + k];
       b.clear = clear_[slot * stride + k];
       for (int c = 0; c < 3; ++c)
@@ -75,7 +72,6 @@ void LvoxelLight::finishCameraChannels() {
         b.depth = RGB(mean);
     }
   std::vector<RGB>().swap(clear_);
-  depthsFinished_ = true;
 }
 
 bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out) const {
@@ -140,16 +136,13 @@ void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights,
                                       float weightSum, LvoxelLightSample& out) const {
   const float inv = 1.0f / weightSum;
   auto linear = [&](size_t k) {
-    const bool delta = k < deltaLights_;
-    const RGB* values =
-        delta ? transmittance_.data() + k : towardsCamera_.data() + (k - deltaLights_);
-    const size_t stride = delta ? deltaLights_ : phases_;
     RGB sum(0.0f);
-    for (int i = 0; i < corners; ++i) sum += values[slots[i] * stride] * weights[i];
+    for (int i = 0; i < corners; ++i) sum += attenuatedChannel(slots[i], k) * weights[i];
     return sum * inv;
   };
-  LVOX_CHECK(blend_ == LvoxelLightBlend::kLinear || depthsFinished_ || cameraStride() == 0,
-             "lvoxel light: exponential blend before finishCameraChannels");
+  LVOX_CHECK(
+      blend_ == LvoxelLightBlend::kLinear || blendable_.size() == cell_.size() * cameraStride(),
+      "lvoxel light: exponential blend before finishCameraChannels");
   auto exponential = [&](size_t k) {
     const size_t stride = cameraStride();
     RGB clear(0.0f), depth(0.0f);

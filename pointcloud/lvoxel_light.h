@@ -143,10 +143,17 @@ class LvoxelLight {
   struct Blendable {
     RGB clear, depth;
   };
-  std::vector<Blendable> blendable_;  // from finishCameraChannels on
+  // From finishCameraChannels on; its size tells whether that has run since the cells or
+  // channels last changed.
+  std::vector<Blendable> blendable_;
   LvoxelLightBlend blend_ = LvoxelLightBlend::kExponential;
-  bool depthsFinished_ = false;  // finishCameraChannels since the channels last changed
   size_t cameraStride() const { return deltaLights_ + phases_; }
+  // Camera channel k of a slot with the media: a delta light's transmittance, then the
+  // phases' light towards the camera.
+  const RGB& attenuatedChannel(size_t slot, size_t k) const {
+    return k < deltaLights_ ? transmittance_[slot * deltaLights_ + k]
+                            : towardsCamera_[slot * phases_ + (k - deltaLights_)];
+  }
   // The camera channels at the occupied corners (slots, weights summing to weightSum).
   void blendCameraChannels(const size_t* slots, const float* weights, int corners, float weightSum,
                            LvoxelLightSample& out) const;
