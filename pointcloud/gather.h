@@ -190,7 +190,12 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     SurfaceHit hit;
     const bool hitSurface = options.tracer->intersect(traced, hit);
     traced.tmax = hitSurface ? hit.t : ray.tmax;
-    traverse(cloud, traced, weights,
+    // The epsilons are the surface's: a ray that starts inside a medium (an lvoxel's
+    // gather) meets the lvoxels from its own start, else it would miss a sliver of its own
+    // cube, 4 epsilons long, and see its neighbours through less of it.
+    Ray media = traced;
+    media.tmin = std::min(ray.tmin, traced.tmin);
+    traverse(cloud, media, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle, false}, scratch);
     if (hitSurface) {
       weights.opaqueHit = true;
