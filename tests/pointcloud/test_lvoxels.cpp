@@ -217,11 +217,11 @@ TEST(Lvoxels, ClustersOfPartlyFilledCellsConserveTheCrossSection) {
     }
 }
 
-// A non-absorbing medium (sigma_s 3 in [-1, 1]^3, lvoxels 0.1) whose lvoxels all carry
-// source radiance 1.
-PointCloud glowingFurnace() {
-  const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.0f), RGB(3.0f));
-  PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.1f}));
+// A medium in [-1, 1]^3 (by default non-absorbing, sigma_s 3, lvoxels 0.1) whose lvoxels
+// all carry source radiance 1.
+PointCloud glowingFurnace(RGB sigmaA = RGB(0.0f), RGB sigmaS = RGB(3.0f), float spacing = 0.1f) {
+  const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), sigmaA, sigmaS);
+  PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {spacing}));
   LvoxelLight& light = cloud.mutableLvoxels().light;
   for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
   cloud.updateAggregates();
@@ -269,15 +269,11 @@ TEST(Lvoxels, TracedGathersMeetTheMediumFromTheirStart) {
   // With ray-traced visibility a gather ray looks for surfaces from a few tracer epsilons
   // on, which keeps a surfel's rays off its own surface; an lvoxel's rays start inside the
   // medium and must meet it from their start. A quad 1,000 units away makes the epsilons
-  // 0.02 (2e-5 of the scene's extent), a fifth of the lvoxels' half-size: the in-scatter
-  // at an inner lvoxel's centre, with and without the tracer, must agree to float
-  // rounding (the same rays; before stop 41 the traced one missed 4 epsilons of its own
-  // cube and came out 0.25 % low, 0.94275 against 0.94514).
-  const test::BoxMedium m(Vec3(-1, -1, -1), Vec3(1, 1, 1), RGB(0.25f), RGB(4.75f));
-  PointCloud cloud(SurfelSet{}, sampleLvoxels(m, {0.2f}));
-  LvoxelLight& light = cloud.mutableLvoxels().light;
-  for (uint32_t s = 0; s < light.occupiedCount(); ++s) light.directInScatter(s)[0] = RGB(1.0f);
-  cloud.updateAggregates();
+  // 0.02 (2e-5 of the scene's extent), a fifth of the lvoxels' half-size (sigma_t 5,
+  // spacing 0.2): the in-scatter at an inner lvoxel's centre, with and without the
+  // tracer, must agree to float rounding (the same rays; before stop 41 the traced one
+  // missed 4 epsilons of its own cube and came out 0.25 % low, 0.94275 against 0.94514).
+  const PointCloud cloud = glowingFurnace(RGB(0.25f), RGB(4.75f), 0.2f);
   TriangleMesh far;
   test::addQuad(far, Vec3(1000, -1, -1), Vec3(1000, 1, -1), Vec3(1000, 1, 1), Vec3(1000, -1, 1), 0);
   const RayTracer tracer(far);
