@@ -8,7 +8,9 @@
 // with J = sigma_s / sigma_t * L_scatter its source radiance, then T *= exp(-sigma_t l)
 // (the exact RTE solution across a homogeneous cube).
 #include <cstdint>
+#include <type_traits>
 
+#include "pointcloud/own_cube.h"
 #include "pointcloud/surfel_lookup.h"
 #include "pointcloud/traversal.h"
 #include "pointcloud/triangle_surfel_lattice.h"
@@ -56,6 +58,13 @@ struct GatherOptions {
   // (docs/pcb.md, "The near field"). No split when nearSamples <= samples or nearReach 0.
   int nearSamples = 0;
   float nearReach = 0.0f;
+  // Isotropic in-scatter gathers at an lvoxel's centre: that lvoxel. Where no surface cuts
+  // its cube, the rays leave the cube out and 14 fixed directions carry its exact weights
+  // (own_cube.h); -1: the rays sample it like every other cube.
+  long ownLvoxel = -1;
+  // cacheInterreflection only: every lvoxel's gather sets ownLvoxel to itself, except
+  // where its cell holds other media's lvoxels too.
+  bool ownCubeQuadrature = false;
   // Irradiance gathers only: -1, or which quarter (bit 0: u1's half, bit 1: u2's) of each
   // stratum its sample falls in, so that four gathers with the four quarters stratify
   // their directions four times as finely together (interleaved sampling).
@@ -94,6 +103,7 @@ struct GatherRayWeights {
   NearField near;
   RGB transmittance{1, 1, 1};
   bool opaqueHit = false;
+  long own = -1;  // an lvoxel whose weights come from elsewhere: it attenuates, unrecorded
 
   // The ray's weight at distance t.
   float scaleAt(float t) const { return t < near.end ? scale * near.share : scale; }
@@ -108,7 +118,7 @@ struct GatherRayWeights {
   }
   bool lvoxel(uint32_t i, float t0, float t1) {
     const RGB w = attenuate(cloud.lvoxels().sigmaT(i), t0, t1);
-    sink.lvoxel(i, w);
+    if (static_cast<long>(i) != own) sink.lvoxel(i, w);
     return maxComponent(transmittance) >= minTransmittance;
   }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {
@@ -177,9 +187,11 @@ struct RadianceSink {
 // unoccluded media.
 template <class Sink>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
-                    float scale, TraversalScratch& scratch, Sink& sink, NearField near = {}) {
+                    float scale, TraversalScratch& scratch, Sink& sink, NearField near = {},
+                    long own = -1) {
   sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
+  weights.own = own;
   if (!options.tracesSurfaces()) {
     traverse(cloud, ray, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
@@ -268,6 +280,10 @@ RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
 // nearSamples / samples - 1, rounded up; 0 without a near field of its own.
 int nearFieldRaysPerRay(const GatherOptions& options);
 
+struct IsotropicPhase {
+  float operator()(const Vec3&, const Vec3&) const { return 1.0f / (4.0f * kPi); }
+};
+
 // In-scattered radiance L_scatter(p, wo) = integral over the sphere of
 // phase(wo, wi) L(p <- wi) dwi [W/(m^2 sr)]; the medium's source is sigma_s * L_scatter.
 // Directions are stratified uniform on the sphere and weighted by phase / pdf, which
@@ -292,21 +308,30 @@ void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo,
     const float u2 = (static_cast<float>(c) + rng.uniform()) / static_cast<float>(cols);
     return uniformSphere(u1, u2);
   };
+  // The own cube by its 14 directions where no surface cuts it (isotropic gathers only:
+  // those directions are exact for band-limited light under the isotropic phase).
+  long own = -1;
+  if constexpr (std::is_same_v<Phase, IsotropicPhase>)
+    if (options.ownLvoxel >= 0 && options.tracer &&
+        !surfaceCutsCube(*options.tracer, p,
+                         cloud.lvoxels().halfSize[static_cast<size_t>(options.ownLvoxel)]))
+      own = options.ownLvoxel;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const Vec3 wi = direction(r, c);
       const float weight = static_cast<float>(phase(wo, wi)) / kUniformSpherePdf;
       if (weight > 0.0f)
-        traceGatherRay(cloud, Ray{p, wi, 0.0f, kInf}, options, weight * perRay, scratch, sink,
-                       near);
+        traceGatherRay(cloud, Ray{p, wi, 0.0f, kInf}, options, weight * perRay, scratch, sink, near,
+                       own);
       for (int k = 0; k < nearRays; ++k) {
         const Vec3 wk = direction(r, c);
         const float w = static_cast<float>(phase(wo, wk)) / kUniformSpherePdf;
         if (w > 0.0f)
           traceGatherRay(cloud, Ray{p, wk, 0.0f, options.nearReach}, options,
-                         w * perRay * near.share, scratch, sink);
+                         w * perRay * near.share, scratch, sink, {}, own);
       }
     }
+  if (own >= 0) ownCubeInto(cloud.lvoxels(), static_cast<uint32_t>(own), sink);
 }
 
 template <class Phase>
@@ -323,9 +348,5 @@ RGB gatherInScatter(const PointCloud& cloud, const Vec3& p, const Vec3& wo, cons
   TraversalScratch scratch;
   return gatherInScatter(cloud, p, wo, phase, options, rng, scratch);
 }
-
-struct IsotropicPhase {
-  float operator()(const Vec3&, const Vec3&) const { return 1.0f / (4.0f * kPi); }
-};
 
 }  // namespace lvox

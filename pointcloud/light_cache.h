@@ -179,6 +179,15 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   const auto count = static_cast<size_t>(GatherColumns(cloud).coefficients);
   std::vector<RGB> directFront(n, RGB(0.0f)), directBack(n, RGB(0.0f));
   std::vector<RGB> lvoxelConstant(constants ? m * count : 0, RGB(0.0f));
+  // Lvoxels alone in their cell take their own cube's weights from own_cube.h: where media
+  // overlap, the cell's cubes shade each other in the rays' order, which it leaves out.
+  std::vector<uint8_t> sharesCell;
+  if (lvoxelOptions.ownCubeQuadrature) {
+    std::vector<uint8_t> perSlot(l.light.occupiedCount(), 0);
+    for (size_t i = 0; i < m; ++i) perSlot[l.slot[i]] = perSlot[l.slot[i]] ? 2 : 1;
+    sharesCell.resize(m);
+    for (size_t i = 0; i < m; ++i) sharesCell[i] = perSlot[l.slot[i]] > 1;
+  }
   const auto traceStart = std::chrono::steady_clock::now();
   const GatherOperator gathers(
       cloud, 2 * n + m,
@@ -202,8 +211,10 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           // The incident light, uniformly over the sphere: each lvoxel applies its own
           // phase when it sends its light on (LvoxelSet::sourceCoefficients), so the row
           // keeps the light's mean, or its spherical harmonics in anisotropic media.
-          gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, lvoxelOptions, rng,
-                              scratch, recorder);
+          GatherOptions options = lvoxelOptions;
+          if (options.ownCubeQuadrature && !sharesCell[i]) options.ownLvoxel = static_cast<long>(i);
+          gatherInScatterInto(cloud, l.position[i], Vec3(0, 0, 1), phase, options, rng, scratch,
+                              recorder);
           if (constants) std::copy(constant, constant + count, &lvoxelConstant[i * count]);
         }
       },

@@ -10,6 +10,8 @@ constexpr Named<GatherVisibility> kVisibilityNames[] = {{GatherVisibility::kClou
                                                         {GatherVisibility::kRays, "rays"}};
 constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUniform, "uniform"},
                                                       {SurfelSamplerKind::kCamera, "camera"}};
+constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"},
+                                                  {LvoxelOwnCube::kQuadrature, "quadrature"}};
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
                                                    {LvoxelLightBlend::kExponential, "exponential"}};
 
@@ -28,6 +30,13 @@ SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& f
 }
 
 std::string_view surfelSamplerName(SurfelSamplerKind s) { return nameOf(s, kSamplerNames); }
+
+LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
+                                 const std::string& field) {
+  return parseNamed(name, kOwnCubeNames, "own-cube integration", file, field);
+}
+
+std::string_view lvoxelOwnCubeName(LvoxelOwnCube o) { return nameOf(o, kOwnCubeNames); }
 
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field) {
@@ -48,6 +57,8 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
   s.lvoxelNearSamples = p.integer("lvoxel_near_samples", 1, 1 << 16, s.lvoxelNearSamples);
   s.lvoxelNearReach = p.number("lvoxel_near_reach", 0.0f, 1e3f, s.lvoxelNearReach);
+  s.lvoxelOwnCube = p.choice("lvoxel_own_cube", std::string(lvoxelOwnCubeName(s.lvoxelOwnCube)),
+                             parseLvoxelOwnCube);
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
@@ -84,6 +95,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_gather_samples", s.lvoxelGatherSamples);
   l.add(p + "lvoxel_near_samples", s.lvoxelNearSamples);
   l.add(p + "lvoxel_near_reach", s.lvoxelNearReach);
+  l.add(p + "lvoxel_own_cube", lvoxelOwnCubeName(s.lvoxelOwnCube));
   l.add(p + "bounces", s.bounces);
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);

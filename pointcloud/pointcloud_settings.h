@@ -15,6 +15,10 @@ namespace lvox {
 enum class GatherVisibility { kCloud, kRays };
 // Where surfels go: uniformly over all surfaces, or where the camera sees them.
 enum class SurfelSamplerKind { kUniform, kCamera };
+// How an lvoxel's interreflection gather weighs its own cube: sampled by its rays, or by
+// 14 fixed directions exact for light of harmonic bands 0-2, where no surface cuts the
+// cube (own_cube.h; docs/pcb.md, "The own cube").
+enum class LvoxelOwnCube { kRays, kQuadrature };
 
 struct PointCloudSettings {
   float surfelSpacing = 0.0f;  // 0: derived from the total surface area
@@ -27,7 +31,8 @@ struct PointCloudSettings {
   // lvoxelGatherSamples rays and short ones in their strata (docs/pcb.md, "The near field").
   int lvoxelNearSamples = 64;
   float lvoxelNearReach = 2.0f;  // lvoxel cube sides; 0: no near field of its own
-  int bounces = 24;              // interreflection passes (surfels and lvoxels)
+  LvoxelOwnCube lvoxelOwnCube = LvoxelOwnCube::kQuadrature;
+  int bounces = 24;  // interreflection passes (surfels and lvoxels)
   // Shadow rays per area light (and per sky) for the direct light the cloud caches, in
   // place of render.area_light_samples: a surfel's light reaches the image only through
   // gathers that average many surfels, an lvoxel's through trilinear interpolation
@@ -67,6 +72,9 @@ std::string_view gatherVisibilityName(GatherVisibility v);
 SurfelSamplerKind parseSurfelSampler(std::string_view name, const std::string& file,
                                      const std::string& field);
 std::string_view surfelSamplerName(SurfelSamplerKind s);
+LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
+                                 const std::string& field);
+std::string_view lvoxelOwnCubeName(LvoxelOwnCube o);
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field);
 std::string_view lvoxelLightBlendName(LvoxelLightBlend b);

@@ -366,6 +366,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     lvoxelOptions.nearSamples = settings.lvoxelNearSamples;
     lvoxelOptions.nearReach =
         settings.lvoxelNearReach * cache.cloud->lvoxels().light.grid().spacing;
+    lvoxelOptions.ownCubeQuadrature = settings.lvoxelOwnCube == LvoxelOwnCube::kQuadrature;
     std::function<void(uint64_t)> reserve;
     if (ctx.budget)
       reserve = [&](uint64_t bytes) {

@@ -127,6 +127,12 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
             LvoxelLightBlend::kLinear);
   expectError(withPointCloud("\"lvoxel_light_blend\": \"cubic\""),
               {"pointcloud.lvoxel_light_blend", "cubic"});
+  EXPECT_EQ(minimal.pointcloud.lvoxelOwnCube, LvoxelOwnCube::kQuadrature);
+  EXPECT_EQ(parseScene(withPointCloud("\"lvoxel_own_cube\": \"rays\""), "/tmp/scene.json")
+                .pointcloud.lvoxelOwnCube,
+            LvoxelOwnCube::kRays);
+  expectError(withPointCloud("\"lvoxel_own_cube\": \"exact\""),
+              {"pointcloud.lvoxel_own_cube", "exact"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
