@@ -121,18 +121,21 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.lvoxel_light_samples", "outside"});
   expectError(withPointCloud("\"lvoxel_light_samples\": \"many\""),
               {"pointcloud.lvoxel_light_samples"});
-  EXPECT_EQ(minimal.pointcloud.lvoxelLightBlend, LvoxelLightBlend::kExponential);
-  EXPECT_EQ(parseScene(withPointCloud("\"lvoxel_light_blend\": \"linear\""), "/tmp/scene.json")
-                .pointcloud.lvoxelLightBlend,
-            LvoxelLightBlend::kLinear);
-  expectError(withPointCloud("\"lvoxel_light_blend\": \"cubic\""),
-              {"pointcloud.lvoxel_light_blend", "cubic"});
-  EXPECT_EQ(minimal.pointcloud.lvoxelOwnCube, LvoxelOwnCube::kQuadrature);
-  EXPECT_EQ(parseScene(withPointCloud("\"lvoxel_own_cube\": \"rays\""), "/tmp/scene.json")
-                .pointcloud.lvoxelOwnCube,
-            LvoxelOwnCube::kRays);
-  expectError(withPointCloud("\"lvoxel_own_cube\": \"exact\""),
-              {"pointcloud.lvoxel_own_cube", "exact"});
+  // A named setting: its default, another name it reads, and a name it refuses.
+  auto expectChoice = [&](const std::string& key, auto field, auto byDefault,
+                          const std::string& other, auto otherValue, const std::string& bad) {
+    EXPECT_EQ(minimal.pointcloud.*field, byDefault) << key;
+    EXPECT_EQ(parseScene(withPointCloud("\"" + key + "\": \"" + other + "\""), "/tmp/scene.json")
+                      .pointcloud.*
+                  field,
+              otherValue)
+        << key;
+    expectError(withPointCloud("\"" + key + "\": \"" + bad + "\""), {"pointcloud." + key, bad});
+  };
+  expectChoice("lvoxel_light_blend", &PointCloudSettings::lvoxelLightBlend,
+               LvoxelLightBlend::kExponential, "linear", LvoxelLightBlend::kLinear, "cubic");
+  expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kQuadrature,
+               "rays", LvoxelOwnCube::kRays, "exact");
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
