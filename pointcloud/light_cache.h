@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <functional>
 #include <type_traits>
 #include <vector>
@@ -132,6 +133,36 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
   }
 }
 
+// How many interreflection passes run. Once only the slowest mode of the bounce series is
+// left, each pass changes the cloud by about `ratio` times what the one before did, and the
+// passes not run would add about change * ratio / (1 - ratio): the light still missing.
+// Thick, bright media converge slowly (ratio 0.87 in a closed room of albedo-0.95 smoke),
+// thin ones fast (0.66 in the atrium), so a fixed count either stops short or runs passes
+// that change nothing (docs/pcb.md, "How many passes").
+struct InterreflectionPasses {
+  int max = 24;
+  // Stop after the pass whose estimated rest is below this share of the cloud's light
+  // (the sum of its radiance over surfel sides and lvoxels); 0: always `max` passes.
+  double tolerance = 0.0;
+  // The last pass adds that estimated rest, each value moving by its change / (1 - ratio).
+  bool geometricTail = false;
+
+  InterreflectionPasses(int passes) : max(passes) {}  // NOLINT(google-explicit-constructor)
+  InterreflectionPasses(int passes, double restTolerance, bool tail)
+      : max(passes), tolerance(restTolerance), geometricTail(tail) {}
+};
+
+// The ratio of the bounce series from the changes of the passes so far (absolute sums, in
+// order): the larger of the last two ratios, since they rise towards the slowest mode's as
+// the faster modes die out. 0 while fewer than three passes give no two ratios, or when
+// the series does not shrink.
+inline double bounceRatio(const std::vector<double>& changes) {
+  const size_t k = changes.size();
+  if (k < 3 || changes[k - 2] <= 0.0 || changes[k - 3] <= 0.0) return 0.0;
+  const double ratio = std::max(changes[k - 1] / changes[k - 2], changes[k - 2] / changes[k - 3]);
+  return std::isfinite(ratio) && ratio < 1.0 ? ratio : 0.0;
+}
+
 struct InterreflectionStats {
   size_t gatherRays = 0;  // traced once
   size_t entries = 0;     // weights kept (GatherOperator)
@@ -139,12 +170,16 @@ struct InterreflectionStats {
   // sum |L_last - L_previous| / sum |L_last| over surfels' radiance and lvoxels' in-scatter:
   // what the last pass still changed, i.e. roughly the share of light still missing.
   double lastPassChange = 0.0;
+  std::vector<double> passChanges;  // the same for every pass, in order
+  int passes = 0;                   // run
+  double ratio = 0.0;               // of the series, where the passes estimated it
+  double tail = 0.0;             // the share of the light the last pass added as the geometric rest
   double traceSeconds = 0.0;     // tracing the gather rays into the operator (split)
   double exchangeSeconds = 0.0;  // over ranks: summing the passes' radiance (waits included)
 };
 
-// Interreflection: `passes` Jacobi passes over the whole cloud. Each pass gathers, from
-// the cloud as it stands, the irradiance at both sides of every surfel (its radiance
+// Interreflection: Jacobi passes over the whole cloud (InterreflectionPasses: how many). Each pass
+// gathers, from the cloud as it stands, the irradiance at both sides of every surfel (its radiance
 // becomes direct + albedo E / pi) and the in-scattered radiance at every lvoxel (its
 // multiScatter), then refreshes the aggregates: pass n adds the light that bounced n
 // more times, between surfaces and media alike. The direct radiance is the surfels'
@@ -161,11 +196,12 @@ struct InterreflectionStats {
 template <class Phase>
 InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const GatherOptions& surfelOptions,
-                                          const GatherOptions& lvoxelOptions, int passes,
-                                          uint64_t seed, Collective& team = singleProcess(),
+                                          const GatherOptions& lvoxelOptions,
+                                          const InterreflectionPasses& passes, uint64_t seed,
+                                          Collective& team = singleProcess(),
                                           const std::function<void(uint64_t)>& reserve = {}) {
   InterreflectionStats stats;
-  if (passes <= 0) return stats;
+  if (passes.max <= 0) return stats;
   CloudSurfels& s = cloud.mutableSurfels();
   LvoxelSet& l = cloud.mutableLvoxels();
   const size_t n = s.size(), m = l.size();
@@ -245,12 +281,17 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   // What each pass changed, summed per block of rows, then in block order: deterministic.
   const size_t blocks = gathers.blockCount();
   std::vector<double> blockChange(blocks), blockTotal(blocks);
-  auto updateInto = [](double& changeSum, double& totalSum, RGB& value, const RGB& next) {
+  // A value moves to `next`, or by `step` times that change on a pass that adds the
+  // geometric rest; what the pass itself changed is summed.
+  double step = 1.0;
+  auto updateInto = [&step](double& changeSum, double& totalSum, RGB& value, const RGB& next,
+                            bool nonNegativeValue) {
     const RGB finite = isFinite(next) ? next : RGB(0.0f);
     const RGB d = finite - value;
     changeSum += std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     totalSum += std::abs(finite.x) + std::abs(finite.y) + std::abs(finite.z);
-    value = finite;
+    value = step == 1.0 ? finite : value + d * static_cast<float>(step);
+    if (nonNegativeValue) value = nonNegative(value);
   };
   // One row's gathered radiance into the cloud (surfel radiance in place: the gathers read
   // the snapshot `values` only); a surfel's irradiance is the first coefficient. A row is
@@ -262,17 +303,26 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     const RGB mean = nonNegative(c ? g[0] + c[0] : g[0]);
     if (row < n)
       updateInto(blockChange[b], blockTotal[b], s.radianceFront[row],
-                 directFront[row] + s.albedo[row] * mean * kInvPi);
+                 directFront[row] + s.albedo[row] * mean * kInvPi, true);
     else if (row < 2 * n)
       updateInto(blockChange[b], blockTotal[b], s.radianceBack[row - n],
-                 directBack[row - n] + s.albedo[row - n] * mean * kInvPi);
+                 directBack[row - n] + s.albedo[row - n] * mean * kInvPi, true);
     else {
       RGB* out = &lvoxelGathered[(row - 2 * n) * count];
       for (size_t k = 0; k < count; ++k) out[k] = c ? g[k] + c[k] : g[k];
       out[0] = mean;
     }
   };
-  for (int pass = 0; pass < passes; ++pass) {
+  std::vector<double> changes;  // absolute, per pass
+  double lastTotal = 0.0;
+  for (int pass = 0; pass < passes.max; ++pass) {
+    // Is this the last pass? Its change is predicted as the last one's times the ratio.
+    const double ratio = bounceRatio(changes);
+    const bool converged =
+        passes.tolerance > 0.0 && ratio > 0.0 &&
+        changes.back() * ratio * ratio / (1.0 - ratio) < passes.tolerance * lastTotal;
+    const bool last = pass + 1 == passes.max || converged;
+    step = last && passes.geometricTail && ratio > 0.0 ? 1.0 / (1.0 - ratio) : 1.0;
     // The snapshot; the backgrounds, if any, are in the rows' constants.
     gathers.valuesInto(cloud, RGB(0.0f), values);
     std::fill(blockChange.begin(), blockChange.end(), 0.0);
@@ -297,16 +347,24 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
       change += blockChange[b];
       total += blockTotal[b];
     }
-    // What the pass changed is measured on the first coefficient (the mean) only.
+    // What the pass changed is measured on the first coefficient (the mean) only; the
+    // higher coefficients of anisotropic lvoxels are signed.
     double ignored = 0.0;
     storeMultiScatter(l, lvoxelGathered.data(), static_cast<int>(count),
                       [&](RGB& value, const RGB& next, size_t k) {
-                        updateInto(k == 0 ? change : ignored, k == 0 ? total : ignored, value,
-                                   next);
+                        updateInto(k == 0 ? change : ignored, k == 0 ? total : ignored, value, next,
+                                   k == 0);
                       });
     stats.lastPassChange = total > 0.0 ? change / total : 0.0;
+    stats.passChanges.push_back(stats.lastPassChange);
+    changes.push_back(change);
+    lastTotal = total;
+    stats.passes = pass + 1;
+    if (step != 1.0) stats.tail = stats.lastPassChange * ratio / (1.0 - ratio);
     cloud.updateAggregates();
+    if (last) break;
   }
+  stats.ratio = bounceRatio(changes);
   return stats;
 }
 

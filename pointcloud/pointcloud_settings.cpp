@@ -12,6 +12,8 @@ constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUnifo
                                                       {SurfelSamplerKind::kCamera, "camera"}};
 constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"},
                                                   {LvoxelOwnCube::kQuadrature, "quadrature"}};
+constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
+                                            {BounceTail::kGeometric, "geometric"}};
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
                                                    {LvoxelLightBlend::kExponential, "exponential"}};
 
@@ -38,6 +40,13 @@ LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
 
 std::string_view lvoxelOwnCubeName(LvoxelOwnCube o) { return nameOf(o, kOwnCubeNames); }
 
+BounceTail parseBounceTail(std::string_view name, const std::string& file,
+                           const std::string& field) {
+  return parseNamed(name, kTailNames, "tail", file, field);
+}
+
+std::string_view bounceTailName(BounceTail t) { return nameOf(t, kTailNames); }
+
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field) {
   return parseNamed(name, kBlendNames, "blend", file, field);
@@ -62,6 +71,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
+  s.bounceTolerance = p.number("bounce_tolerance", 0.0f, 1.0f, s.bounceTolerance);
+  s.bounceTail =
+      p.choice("bounce_tail", std::string(bounceTailName(s.bounceTail)), parseBounceTail);
   s.surfelLightSamples = p.integer("surfel_light_samples", 1, 1 << 16, s.surfelLightSamples);
   s.lvoxelLightSamples = p.integer("lvoxel_light_samples", 1, 1 << 16, s.lvoxelLightSamples);
   s.lvoxelLightBlend =
@@ -97,6 +109,8 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_near_reach", s.lvoxelNearReach);
   l.add(p + "lvoxel_own_cube", lvoxelOwnCubeName(s.lvoxelOwnCube));
   l.add(p + "bounces", s.bounces);
+  l.add(p + "bounce_tolerance", s.bounceTolerance);
+  l.add(p + "bounce_tail", bounceTailName(s.bounceTail));
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));

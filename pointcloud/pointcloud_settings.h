@@ -19,6 +19,9 @@ enum class SurfelSamplerKind { kUniform, kCamera };
 // 14 fixed directions exact for light of harmonic bands 0-2, where no surface cuts the
 // cube (own_cube.h; docs/pcb.md, "The own cube").
 enum class LvoxelOwnCube { kRays, kQuadrature };
+// What the last interreflection pass adds: nothing, or the estimated rest of the bounce
+// series (light_cache.h, InterreflectionPasses).
+enum class BounceTail { kNone, kGeometric };
 
 struct PointCloudSettings {
   float surfelSpacing = 0.0f;  // 0: derived from the total surface area
@@ -32,7 +35,12 @@ struct PointCloudSettings {
   int lvoxelNearSamples = 64;
   float lvoxelNearReach = 2.0f;  // lvoxel cube sides; 0: no near field of its own
   LvoxelOwnCube lvoxelOwnCube = LvoxelOwnCube::kQuadrature;
-  int bounces = 24;  // interreflection passes (surfels and lvoxels)
+  int bounces = 64;  // interreflection passes (surfels and lvoxels), at most
+  // Fewer passes once the light they would still add, estimated from how the last ones
+  // shrank, is below this share of the cloud's; 0: always `bounces` (docs/pcb.md, "How
+  // many passes").
+  float bounceTolerance = 1e-3f;
+  BounceTail bounceTail = BounceTail::kGeometric;
   // Shadow rays per area light (and per sky) for the direct light the cloud caches, in
   // place of render.area_light_samples: a surfel's light reaches the image only through
   // gathers that average many surfels, an lvoxel's through trilinear interpolation
@@ -75,6 +83,9 @@ std::string_view surfelSamplerName(SurfelSamplerKind s);
 LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
                                  const std::string& field);
 std::string_view lvoxelOwnCubeName(LvoxelOwnCube o);
+BounceTail parseBounceTail(std::string_view name, const std::string& file,
+                           const std::string& field);
+std::string_view bounceTailName(BounceTail t);
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field);
 std::string_view lvoxelLightBlendName(LvoxelLightBlend b);

@@ -373,12 +373,23 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         ctx.budget->reserve(bytes, sceneFile, "pointcloud.surfel_gather_samples",
                             "the interreflection's weights");
       };
+    const InterreflectionPasses plan(passes, settings.bounceTolerance,
+                                     settings.bounceTail == BounceTail::kGeometric);
     const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, passes, seed, team, reserve);
+        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan, seed, team, reserve);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
     report.settings["interreflection_last_pass_change"] = std::to_string(stats.lastPassChange);
+    std::string changes;
+    for (double c : stats.passChanges) {
+      if (!changes.empty()) changes += ',';
+      changes += std::to_string(c);
+    }
+    report.settings["interreflection_pass_changes"] = changes;
+    report.settings["interreflection_passes"] = std::to_string(stats.passes);
+    report.settings["interreflection_ratio"] = std::to_string(stats.ratio);
+    report.settings["interreflection_tail"] = std::to_string(stats.tail);
     // Parts of "interreflection": the rest is the passes' products and updates.
     report.times["interreflection_trace"] = stats.traceSeconds;
     if (team.distributed()) report.times["interreflection_exchange"] = stats.exchangeSeconds;

@@ -113,6 +113,46 @@ TEST(GatherOperator, PassesAddBouncesOneAtATime) {
   }
 }
 
+// A closed box of albedo 0.9 converges slowly (L = 1 / (1 - 0.9) = 10; pass n leaves
+// 0.9^(n+1) of it out), and every pass changes the inner sides by exactly 0.9 times the one
+// before: the series is one geometric mode, the case the pass plan's estimates are exact
+// for (light_cache.h, InterreflectionPasses).
+TEST(GatherOperator, PassesStopAtTheirToleranceAndTheTailCompletesTheSeries) {
+  auto run = [](const InterreflectionPasses& plan, float* worst) {
+    PointCloud pc = litBox(0.9f, 0.25f);
+    GatherOptions o;
+    o.samples = 4;
+    const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, plan, 5);
+    *worst = 0.0f;
+    for (size_t i = 0; i < pc.surfels().size(); ++i)
+      *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 10.0f));
+    return stats;
+  };
+  float worst = 0.0f;
+  // Without a tolerance, all the passes: 24 leave 0.9^25 = 7.2 % of the light out.
+  EXPECT_EQ(run(24, &worst).passes, 24);
+  EXPECT_NEAR(worst, 10.0f * std::pow(0.9f, 25.0f), 1e-3f);
+  // With one, the passes stop once the rest they estimate is below 1e-3 of the cloud's
+  // light (inner sides about 10, outer ones 1): at most 0.011 on an inner side. One pass
+  // fewer would leave more than that.
+  const InterreflectionStats stopped = run({500, 1e-3, false}, &worst);
+  std::printf("albedo 0.9: %d passes, ratio %.6f, worst |L - 10| %.2e\n", stopped.passes,
+              stopped.ratio, worst);
+  EXPECT_NEAR(stopped.ratio, 0.9, 1e-3);  // changes of 1e-3 on values of 10 in floats
+  EXPECT_LT(stopped.passes, 100);
+  EXPECT_LT(worst, 0.011f);
+  EXPECT_GT(10.0f * std::pow(0.9f, static_cast<float>(stopped.passes)), 0.011f);
+  EXPECT_EQ(stopped.tail, 0.0);
+  // The geometric tail adds the rest: exact for one mode, after as many passes.
+  const InterreflectionStats tailed = run({500, 1e-3, true}, &worst);
+  std::printf("with the tail: %d passes, rest added %.2e, worst |L - 10| %.2e\n", tailed.passes,
+              tailed.tail, worst);
+  EXPECT_EQ(tailed.passes, stopped.passes);
+  EXPECT_GT(tailed.tail, 0.0);
+  EXPECT_LT(tailed.tail, 1e-3);
+  EXPECT_LT(worst, 2e-4f);
+}
+
 TEST(GatherOperator, EachKindOfRowSeesItsOwnBackground) {
   // pcb gives the sky to the surfels' gathers and not to the lvoxels' (their direct light
   // holds it). The closed box's inner sides never see it (L = 2 as above); its outer sides

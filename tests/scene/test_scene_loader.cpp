@@ -136,6 +136,19 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                LvoxelLightBlend::kExponential, "linear", LvoxelLightBlend::kLinear, "cubic");
   expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kQuadrature,
                "rays", LvoxelOwnCube::kRays, "exact");
+  expectChoice("bounce_tail", &PointCloudSettings::bounceTail, BounceTail::kGeometric, "none",
+               BounceTail::kNone, "linear");
+  // The passes: at most 64 by default, stopped at 1e-3 of the light still to come; 0 runs
+  // them all.
+  EXPECT_EQ(minimal.pointcloud.bounces, 64);
+  EXPECT_FLOAT_EQ(minimal.pointcloud.bounceTolerance, 1e-3f);
+  EXPECT_FLOAT_EQ(parseScene(withPointCloud("\"bounce_tolerance\": 0"), "/tmp/scene.json")
+                      .pointcloud.bounceTolerance,
+                  0.0f);
+  expectError(withPointCloud("\"bounce_tolerance\": -0.1"),
+              {"pointcloud.bounce_tolerance", "outside"});
+  expectError(withPointCloud("\"bounce_tolerance\": 2"),
+              {"pointcloud.bounce_tolerance", "outside"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
