@@ -362,7 +362,9 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     stats.passes = pass + 1;
     if (step != 1.0) stats.tail = stats.lastPassChange * ratio / (1.0 - ratio);
     cloud.updateAggregates();
-    if (last) break;
+    // A pass that changed nothing leaves nothing for the next ones (no bounce returns
+    // light: black surfaces, no scattering media).
+    if (last || (passes.tolerance > 0.0 && change == 0.0)) break;
   }
   stats.ratio = bounceRatio(changes);
   return stats;

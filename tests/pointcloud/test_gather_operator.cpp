@@ -151,6 +151,12 @@ TEST(GatherOperator, PassesStopAtTheirToleranceAndTheTailCompletesTheSeries) {
   EXPECT_GT(tailed.tail, 0.0);
   EXPECT_LT(tailed.tail, 1e-3);
   EXPECT_LT(worst, 2e-4f);
+  // Black walls return nothing: the first pass changes nothing, and it is the last.
+  PointCloud black = litBox(0.0f, 0.25f);
+  GatherOptions o;
+  o.samples = 4;
+  EXPECT_EQ(cacheInterreflection(black, IsotropicPhase{}, o, o, {500, 1e-3, true}, 5).passes, 1);
+  EXPECT_EQ(cacheInterreflection(black, IsotropicPhase{}, o, o, 6, 5).passes, 6);  // no tolerance
 }
 
 TEST(GatherOperator, EachKindOfRowSeesItsOwnBackground) {
