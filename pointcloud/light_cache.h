@@ -136,11 +136,11 @@ void cacheMultipleScattering(PointCloud& cloud, const Phase& phase, const Gather
 // How many interreflection passes run. Once only the slowest mode of the bounce series is
 // left, each pass changes the cloud by about `ratio` times what the one before did, and the
 // passes not run would add about change * ratio / (1 - ratio): the light still missing.
-// Thick, bright media converge slowly (ratio 0.87 in a closed room of albedo-0.95 smoke),
-// thin ones fast (0.66 in the atrium), so a fixed count either stops short or runs passes
-// that change nothing (docs/pcb.md, "How many passes").
+// Thick, bright media converge slowly (ratio about 0.9 in a closed room of albedo-0.95
+// smoke), thin ones fast (0.66 in the atrium), so a fixed count either stops short or runs
+// passes that change nothing (docs/pcb.md, "How many passes").
 struct InterreflectionPasses {
-  int max = 24;
+  int max = 0;
   // Stop after the pass whose estimated rest is below this share of the cloud's light
   // (the sum of its radiance over surfel sides and lvoxels); 0: always `max` passes.
   double tolerance = 0.0;

@@ -3,6 +3,7 @@
 #include <tbb/combinable.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -381,10 +382,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
     report.settings["interreflection_last_pass_change"] = std::to_string(stats.lastPassChange);
-    std::string changes;
+    std::string changes;  // three digits each: the late passes change by 1e-5 and less
     for (double c : stats.passChanges) {
-      if (!changes.empty()) changes += ',';
-      changes += std::to_string(c);
+      char digits[32];
+      std::snprintf(digits, sizeof digits, "%s%.3g", changes.empty() ? "" : ",", c);
+      changes += digits;
     }
     report.settings["interreflection_pass_changes"] = changes;
     report.settings["interreflection_passes"] = std::to_string(stats.passes);
