@@ -14,6 +14,8 @@ constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"}
                                                   {LvoxelOwnCube::kQuadrature, "quadrature"}};
 constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
                                             {BounceTail::kGeometric, "geometric"}};
+constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
+                                          {GatherFit::kLinear, "linear"}};
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
                                                    {LvoxelLightBlend::kExponential, "exponential"}};
 
@@ -47,6 +49,12 @@ BounceTail parseBounceTail(std::string_view name, const std::string& file,
 
 std::string_view bounceTailName(BounceTail t) { return nameOf(t, kTailNames); }
 
+GatherFit parseGatherFit(std::string_view name, const std::string& file, const std::string& field) {
+  return parseNamed(name, kFitNames, "fit", file, field);
+}
+
+std::string_view gatherFitName(GatherFit f) { return nameOf(f, kFitNames); }
+
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field) {
   return parseNamed(name, kBlendNames, "blend", file, field);
@@ -70,6 +78,7 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
                              parseLvoxelOwnCube);
   s.gatherSpacing = p.integer("gather_spacing", 1, 64, s.gatherSpacing);
   s.gatherFilter = p.number("gather_filter", 1.0f, 16.0f, s.gatherFilter);
+  s.gatherFit = p.choice("gather_fit", std::string(gatherFitName(s.gatherFit)), parseGatherFit);
   s.bounces = p.integer("bounces", 0, 1024, s.bounces);
   s.bounceTolerance = p.number("bounce_tolerance", 0.0f, 1.0f, s.bounceTolerance);
   s.bounceTail =
@@ -121,6 +130,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "gather_samples", s.gatherSamples);
   l.add(p + "gather_spacing", s.gatherSpacing);
   l.add(p + "gather_filter", s.gatherFilter);
+  l.add(p + "gather_fit", gatherFitName(s.gatherFit));
   l.add(p + "lvoxel_cluster_solid_angle", s.lvoxelClusterSolidAngle);
   l.add(p + "cluster_solid_angle", s.clusterSolidAngle);
   return l;

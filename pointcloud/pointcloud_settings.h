@@ -22,6 +22,10 @@ enum class LvoxelOwnCube { kRays, kQuadrature };
 // What the last interreflection pass adds: nothing, or the estimated rest of the bounce
 // series (light_cache.h, InterreflectionPasses).
 enum class BounceTail { kNone, kGeometric };
+// How a camera sample's irradiance is fitted to the final gathers around it: their
+// weighted mean, or a plane through them evaluated at the sample (local linear regression;
+// src/render/indirect_grid.h).
+enum class GatherFit { kConstant, kLinear };
 
 struct PointCloudSettings {
   float surfelSpacing = 0.0f;  // 0: derived from the total surface area
@@ -56,10 +60,11 @@ struct PointCloudSettings {
   // surfel standing for a gather ray's hit (triangle_surfel_lattice.h); 0: the exact
   // nearest-surfel search at every hit (surfel_lookup.h).
   float hitLatticeStep = 0.7f;
-  int surfelGatherSamples = 4;           // hemisphere rays per surfel side and pass
-  int gatherSamples = 64;                // gather rays per pixel (split over its samples)
-  int gatherSpacing = 2;                 // pixels between final gathers; 1: every camera hit
-  float gatherFilter = 3.0f;             // tent half-width over final gathers, in gathers
+  int surfelGatherSamples = 4;  // hemisphere rays per surfel side and pass
+  int gatherSamples = 64;       // gather rays per pixel (split over its samples)
+  int gatherSpacing = 2;        // pixels between final gathers; 1: every camera hit
+  float gatherFilter = 3.0f;    // tent half-width over final gathers, in gathers
+  GatherFit gatherFit = GatherFit::kLinear;
   float lvoxelClusterSolidAngle = 0.0f;  // sr, lvoxel-only nodes; defaultLvoxelClusterSolidAngle
   float clusterSolidAngle = 0.0f;        // sr; 0 = every element exactly
 };
@@ -86,6 +91,8 @@ std::string_view lvoxelOwnCubeName(LvoxelOwnCube o);
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field);
 std::string_view bounceTailName(BounceTail t);
+GatherFit parseGatherFit(std::string_view name, const std::string& file, const std::string& field);
+std::string_view gatherFitName(GatherFit f);
 LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string& file,
                                        const std::string& field);
 std::string_view lvoxelLightBlendName(LvoxelLightBlend b);

@@ -11,13 +11,20 @@ namespace {
 constexpr float kMinNormalCosine = 0.9f;   // about 25 degrees
 constexpr float kMaxPlaneDistance = 2.0f;  // in pixel footprints at the grid point
 constexpr float kMaxReach = 2.0f;          // in grid spacings, along the surface
+// The linear fit's slopes are regularised by this share of the variance of a whole tent's
+// offsets (r^2 / 6 along each axis for half-width r): where the points hardly spread along
+// a direction (one row of them, or two with almost all the weight on one) a slope would
+// multiply their noise by the distance over that spread. Where they spread as a whole
+// tent does, the slopes keep 10 / 11 of their size; on one side of an edge (half a tent,
+// a third of the spread) about 3 / 4.
+constexpr double kSlopeRidge = 0.1;
 
 }  // namespace
 
 IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
                            const GatherOptions& options, int spacing, float filterRadius,
-                           uint64_t seed, Collective& team)
-    : spacing_(std::max(1, spacing)), filterRadius_(std::max(1.0f, filterRadius)) {
+                           GatherFit fit, uint64_t seed, Collective& team)
+    : spacing_(std::max(1, spacing)), filterRadius_(std::max(1.0f, filterRadius)), fit_(fit) {
   const Camera& camera = ctx.world.camera;
   // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
   // every pixel lies between grid points.
@@ -66,21 +73,18 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
   }
 }
 
-bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit,
-                          IrradianceParts& irradiance) const {
-  const float u = (px - 0.5f) / static_cast<float>(spacing_);
-  const float v = (py - 0.5f) / static_cast<float>(spacing_);
+template <class F>
+void IndirectGrid::forEachValid(float u, float v, const SurfaceHit& hit, F&& f) const {
   const float radius = filterRadius_;
   const long i0 = std::max(static_cast<long>(std::floor(u - radius)) + 1, 0L);
   const long i1 = std::min(static_cast<long>(std::ceil(u + radius)) - 1, nx_ - 1);
   const long j0 = std::max(static_cast<long>(std::floor(v - radius)) + 1, 0L);
   const long j1 = std::min(static_cast<long>(std::ceil(v + radius)) - 1, ny_ - 1);
-  IrradianceParts sum;
-  float weightSum = 0.0f;
   for (long j = j0; j <= j1; ++j)
     for (long i = i0; i <= i1; ++i) {
-      const float w = std::max(0.0f, 1.0f - std::abs(u - static_cast<float>(i)) / radius) *
-                      std::max(0.0f, 1.0f - std::abs(v - static_cast<float>(j)) / radius);
+      const float du = static_cast<float>(i) - u, dv = static_cast<float>(j) - v;
+      const float w = std::max(0.0f, 1.0f - std::abs(du) / radius) *
+                      std::max(0.0f, 1.0f - std::abs(dv) / radius);
       if (!(w > 0.0f)) continue;
       const Point& pt = at(i, j);
       if (!pt.valid || dot(pt.normal, hit.normal) < kMinNormalCosine) continue;
@@ -88,13 +92,49 @@ bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit,
       if (std::abs(dot(d, hit.normal)) > kMaxPlaneDistance * pt.footprint ||
           length(d) > pt.reach * radius)
         continue;
-      sum.cloud += pt.irradiance.cloud * w;
-      sum.background += pt.irradiance.background * w;
-      weightSum += w;
+      f(pt, w, du, dv);
     }
+}
+
+bool IndirectGrid::lookup(float px, float py, const SurfaceHit& hit,
+                          IrradianceParts& irradiance) const {
+  const float u = (px - 0.5f) / static_cast<float>(spacing_);
+  const float v = (py - 0.5f) / static_cast<float>(spacing_);
+  // The tent's moments over the valid points: weight, mean offset, covariance.
+  double s0 = 0.0, su = 0.0, sv = 0.0, suu = 0.0, suv = 0.0, svv = 0.0;
+  forEachValid(u, v, hit, [&](const Point&, float w, float du, float dv) {
+    s0 += w;
+    su += w * du;
+    sv += w * dv;
+    suu += w * du * du;
+    suv += w * du * dv;
+    svv += w * dv * dv;
+  });
   // A sample right next to rejected points would lean on one far point alone.
-  if (weightSum < 0.05f) return false;
-  irradiance = {sum.cloud / weightSum, sum.background / weightSum};
+  if (s0 < 0.05) return false;
+  const double mu = su / s0, mv = sv / s0;
+  // The plane fitted by weighted least squares, at the sample (offset 0): the weighted
+  // mean plus its slopes times (0 - mean offset), slopes = covariance^-1 x the weighted
+  // covariance of offset and irradiance. That makes each point's weight
+  // w / s0 x (1 + (offset - mean offset) . g) with g = -covariance^-1 x mean offset:
+  // independent of the irradiance, so both parts and all colours share it.
+  double gu = 0.0, gv = 0.0;
+  if (fit_ == GatherFit::kLinear) {
+    const double ridge = kSlopeRidge * filterRadius_ * filterRadius_ / 6.0;
+    const double cuu = suu / s0 - mu * mu + ridge, cvv = svv / s0 - mv * mv + ridge;
+    const double cuv = suv / s0 - mu * mv;
+    const double det = cuu * cvv - cuv * cuv;  // > 0: positive semi-definite plus the ridge
+    gu = -(cvv * mu - cuv * mv) / det;
+    gv = -(cuu * mv - cuv * mu) / det;
+  }
+  IrradianceParts sum;
+  forEachValid(u, v, hit, [&](const Point& pt, float w, float du, float dv) {
+    const auto k = static_cast<float>(w / s0 * (1.0 + (du - mu) * gu + (dv - mv) * gv));
+    sum.cloud += pt.irradiance.cloud * k;
+    sum.background += pt.irradiance.background * k;
+  });
+  // Extrapolated past the points, a plane through noisy values can dip below zero.
+  irradiance = {nonNegative(sum.cloud), nonNegative(sum.background)};
   return true;
 }
 

@@ -8,9 +8,19 @@
 // validity test, Ward 1988, in screen space). Samples with no valid grid point gather
 // for themselves. Indirect light is smooth on surfaces, so this trades a little blur of
 // contact shading for an order of magnitude fewer gather rays.
+//
+// Where the valid grid points lie on one side of the sample (along a concave corner, next
+// to a silhouette) their mean stands for the light a few pixels away, not at the sample:
+// irradiance that falls towards a corner came out too bright along it and irradiance that
+// rises towards a sunlit one too dark. The linear fit (GatherFit::kLinear, the default)
+// evaluates the plane that fits the points in the weighted least-squares sense at the
+// sample instead (local linear regression): exact for irradiance linear across the
+// screen, on either side of an edge. Where the points surround the sample it is their
+// weighted mean, as the constant fit.
 #include <vector>
 
 #include "pointcloud/gather.h"
+#include "pointcloud/pointcloud_settings.h"
 #include "src/core/collective.h"
 #include "src/render/render_context.h"
 
@@ -23,7 +33,8 @@ class IndirectGrid {
   // several ranks each gathers the rows j with j % size == rank and the sums over the
   // ranks give every rank the grid one process gathers.
   IndirectGrid(const RenderContext& ctx, const PointCloud& cloud, const GatherOptions& options,
-               int spacing, float filterRadius, uint64_t seed, Collective& team = singleProcess());
+               int spacing, float filterRadius, GatherFit fit, uint64_t seed,
+               Collective& team = singleProcess());
 
   bool empty() const { return points_.empty(); }
   size_t pointCount() const { return points_.size(); }
@@ -41,9 +52,14 @@ class IndirectGrid {
     bool valid = false;
   };
   const Point& at(long i, long j) const { return points_[static_cast<size_t>(j * nx_ + i)]; }
+  // f(point, tent weight, offset along x, along y in grid spacings) for every grid point
+  // within the tent about (u, v) that is valid for the hit.
+  template <class F>
+  void forEachValid(float u, float v, const SurfaceHit& hit, F&& f) const;
 
   int spacing_ = 1;
   float filterRadius_ = 1.0f;  // tent half-width in grid spacings; 1: bilinear
+  GatherFit fit_ = GatherFit::kLinear;
   long nx_ = 0, ny_ = 0;
   std::vector<Point> points_;
 };

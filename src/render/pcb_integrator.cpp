@@ -408,7 +408,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     const GatherOptions options = gatherOptions(ctx, cache, settings, spacing,
                                                 settings.gatherSamples, cache.environmentInGathers);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
-                                 settings.gatherFilter, seed, team);
+                                 settings.gatherFilter, settings.gatherFit, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
     report.add("grid_gather_rays",
                cache.gathers.pointCount() * static_cast<uint64_t>(options.samples));

@@ -138,6 +138,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                "rays", LvoxelOwnCube::kRays, "exact");
   expectChoice("bounce_tail", &PointCloudSettings::bounceTail, BounceTail::kGeometric, "none",
                BounceTail::kNone, "linear");
+  expectChoice("gather_fit", &PointCloudSettings::gatherFit, GatherFit::kLinear, "constant",
+               GatherFit::kConstant, "quadratic");
   // The passes: at most 64 by default, stopped at 1e-3 of the light still to come; 0 runs
   // them all.
   EXPECT_EQ(minimal.pointcloud.bounces, 64);
