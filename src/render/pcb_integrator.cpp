@@ -16,6 +16,7 @@
 #include "src/render/camera_layers.h"
 #include "src/render/cloud_exchange.h"
 #include "src/render/direct_integrator.h"
+#include "src/render/emitter_pixels.h"
 #include "src/render/pcb_media.h"
 #include "src/render/surface_albedo.h"
 #include "src/render/surface_direct.h"
@@ -431,14 +432,17 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample,
                     cache.environmentInGathers);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
-  return [&ctx, &volume, &cache, &counters, options, atHits](const PixelSample& s, Rng& rng,
-                                                             SampleLayers* layers) {
+  auto emitters = std::make_shared<const EmitterPixels>(ctx, ctx.settings.emitterSamples);
+  return [&ctx, &volume, &cache, &counters, options, atHits, emitters](
+             const PixelSample& s, Rng& rng, SampleLayers* layers) {
     const World& world = ctx.world;
     const float px = s.filmX, py = s.filmY;
     const Ray ray = world.camera.generateRay(px, py);
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
+    // On an emitter's edge its emission comes from rays of its own (below), not this one.
+    const bool fineEmission = emitters->covers(s.x, s.y);
     RGB environment(0.0f), emission(0.0f), direct(0.0f), indirect(0.0f);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
@@ -466,7 +470,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                                       std::memory_order_relaxed);
       }
       counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-      emission = m.emission;
+      if (!fineEmission) emission = m.emission;
       // The environment's light is direct light (the layers), though the gathers found it.
       direct += albedo * irradiance.background * kInvPi;
       indirect = albedo * irradiance.cloud * kInvPi;
@@ -486,6 +490,15 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       l = volume.radiance(ray, tEnd, behind, rng, solveCounts, partsOut);
     }
     if (layers) fillRadianceLayers(*layers, parts, emission, direct, indirect, environment);
+    if (fineEmission) {
+      uint64_t rays = 0;
+      const RGB seen = emitters->emission(
+          ctx, s.x, s.y, rng, [&](const Ray& r) { return volume.transmittance(r, solveCounts); },
+          rays);
+      counters.emitterRays.fetch_add(rays, std::memory_order_relaxed);
+      l += seen;
+      if (layers) layers->emission += seen;
+    }
     addSolveCounts(counters, solveCounts);
     return l;
   };

@@ -32,6 +32,7 @@ RenderSettings parseRenderSettings(JsonObject r) {
       r.integer("seed", 0, std::numeric_limits<int>::max(), static_cast<int>(s.seed)));
   s.areaLightSamples = r.integer("area_light_samples", 1, 1 << 16, s.areaLightSamples);
   s.mediumLightSamples = r.integer("medium_light_samples", 1, 1 << 16, s.mediumLightSamples);
+  s.emitterSamples = r.integer("emitter_samples", 1, 1 << 12, s.emitterSamples);
   s.threads = r.integer("threads", 0, 1024, s.threads);
   s.maxMemory =
       r.choice("max_memory", "auto",
@@ -54,6 +55,7 @@ SettingList describe(const RenderSettings& s) {
   l.add("render.max_bounces", s.maxBounces);
   l.add("render.area_light_samples", s.areaLightSamples);
   l.add("render.medium_light_samples", s.mediumLightSamples);
+  l.add("render.emitter_samples", s.emitterSamples);
   return l;
 }
 

@@ -22,7 +22,10 @@ struct RenderSettings {
   uint64_t seed = 1;
   int areaLightSamples = 16;   // shadow rays per area light (and environment) at a surface point
   int mediumLightSamples = 1;  // the same at each medium evaluation (fixed along a camera ray)
-  int threads = 0;             // 0: all cores
+  // pcb modes: rays per camera sample for the emission of emitters seen directly, in the
+  // pixels near one (src/render/emitter_pixels.h); 1: the camera ray's own.
+  int emitterSamples = 16;
+  int threads = 0;  // 0: all cores
   // Memory budget of the render in bytes ("max_memory": "4G", or --max-memory); 0: 80 % of
   // the machine's memory (src/core/memory_budget.h). It does not change the image.
   uint64_t maxMemory = 0;

@@ -24,10 +24,11 @@ RenderSplit distributedSplit(Mode mode) {
 
 // Split over ranks, each counted its own share of the image: the report counts the whole.
 void sumOverRanks(SamplerCounters& counters, TileStats& stats, Collective& team) {
-  std::atomic<uint64_t>* const atomics[] = {
-      &counters.shadowRays,    &counters.pathRays,        &counters.paths,
-      &counters.gatherRays,    &counters.mediumEvals,     &counters.solverSteps,
-      &counters.rejectedSteps, &counters.stabilityEvents, &counters.cappedSegments};
+  std::atomic<uint64_t>* const atomics[] = {&counters.shadowRays,     &counters.pathRays,
+                                            &counters.paths,          &counters.gatherRays,
+                                            &counters.mediumEvals,    &counters.solverSteps,
+                                            &counters.rejectedSteps,  &counters.stabilityEvents,
+                                            &counters.cappedSegments, &counters.emitterRays};
   std::vector<uint64_t> values{stats.samples, stats.invalidSamples};
   for (const std::atomic<uint64_t>* a : atomics) values.push_back(a->load());
   team.sum(values);

@@ -12,6 +12,7 @@ struct SamplerCounters {
   std::atomic<uint64_t> pathRays{0};
   std::atomic<uint64_t> paths{0};
   std::atomic<uint64_t> gatherRays{0};
+  std::atomic<uint64_t> emitterRays{0};  // pcb: rays for the emitters seen directly
   std::atomic<uint64_t> mediumEvals{0};
   std::atomic<uint64_t> solverSteps{0};
   std::atomic<uint64_t> rejectedSteps{0};
@@ -26,6 +27,7 @@ struct SamplerCounters {
     put("path_rays", pathRays);
     put("paths", paths);
     put("gather_rays", gatherRays);
+    put("emitter_rays", emitterRays);
     report.add("medium_evals", mediumEvals.load());
     put("solver_steps", solverSteps);
     put("rejected_steps", rejectedSteps);
