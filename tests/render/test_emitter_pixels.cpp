@@ -29,6 +29,15 @@ Scene squareScene(bool lamp, const std::string& render = R"("render": {},)") {
       "/tmp/emitter-pixels.json");
 }
 
+// The square's scene with what the camera needs to trace it.
+struct SquareView {
+  Scene scene;
+  RayTracer tracer{scene.world.mesh};
+  LightSet lights{scene.world, 1};
+  RenderContext ctx{scene.world, scene.render, tracer, lights};
+  explicit SquareView(bool lamp) : scene(squareScene(lamp)) {}
+};
+
 // The share of pixel (x, y) the emitter covers, by a regular 32 x 32 grid of rays.
 double coverage(const RenderContext& ctx, int x, int y) {
   int inside = 0;
@@ -43,10 +52,8 @@ double coverage(const RenderContext& ctx, int x, int y) {
 }
 
 TEST(EmitterPixels, EdgePixelsGetStratifiedRaysThatEstimateTheirCoverage) {
-  const Scene scene = squareScene(true);
-  const RayTracer tracer(scene.world.mesh);
-  const LightSet lights(scene.world, 1);
-  const RenderContext ctx{scene.world, scene.render, tracer, lights};
+  const SquareView view(true);
+  const RenderContext& ctx = view.ctx;
   const EmitterPixels fine(ctx, 16);
   const EmitterPixels single(ctx, 1);
   auto clear = [](const Ray&) { return RGB(1.0f); };
@@ -95,10 +102,8 @@ TEST(EmitterPixels, EdgePixelsGetStratifiedRaysThatEstimateTheirCoverage) {
 }
 
 TEST(EmitterPixels, EachRayIsSeenThroughItsOwnTransmittance) {
-  const Scene scene = squareScene(true);
-  const RayTracer tracer(scene.world.mesh);
-  const LightSet lights(scene.world, 1);
-  const RenderContext ctx{scene.world, scene.render, tracer, lights};
+  const SquareView view(true);
+  const RenderContext& ctx = view.ctx;
   const EmitterPixels fine(ctx, 16);
   uint64_t rays = 0;
   Rng rng(1, 1);
@@ -123,20 +128,16 @@ TEST(EmitterPixels, EachRayIsSeenThroughItsOwnTransmittance) {
 
 // A silhouette against the environment gets no rays of its own (emitter_pixels.h).
 TEST(EmitterPixels, SilhouettesAgainstTheEnvironmentKeepTheCameraRays) {
-  const Scene scene = squareScene(false);
-  const RayTracer tracer(scene.world.mesh);
-  const LightSet lights(scene.world, 1);
-  const RenderContext ctx{scene.world, scene.render, tracer, lights};
+  const SquareView view(false);
+  const RenderContext& ctx = view.ctx;
   EXPECT_EQ(EmitterPixels(ctx, 16).pixelCount(), 0u);
 }
 
 // End to end, pcb at 4 spp: the edge pixels' rays replace the camera rays' emission there
 // (not added to it: the image's light stays the lamp's area) and bring its edges closer.
 TEST(EmitterPixels, PcbImagesTakeTheEdgesFromTheirRays) {
-  const Scene reference = squareScene(true);
-  const RayTracer tracer(reference.world.mesh);
-  const LightSet lights(reference.world, 1);
-  const RenderContext ctx{reference.world, reference.render, tracer, lights};
+  const SquareView view(true);
+  const RenderContext& ctx = view.ctx;
   const EmitterPixels edges(ctx, 16);
   auto renderWith = [](int samples, Report& report) {
     const Scene scene =
