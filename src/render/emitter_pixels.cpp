@@ -42,7 +42,7 @@ EmitterPixels::EmitterPixels(const RenderContext& ctx, int raysPerSample)
             probe(ctx, static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
     }
   });
-  near_.assign(centre.size(), 0);
+  edge_.assign(centre.size(), 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       // The probes: the pixel's corners and centre, its neighbours' centres.
@@ -63,7 +63,7 @@ EmitterPixels::EmitterPixels(const RenderContext& ctx, int raysPerSample)
         }
       // An emitter, and not the same emission everywhere: an edge.
       const bool edge = shines && differ;
-      near_[static_cast<size_t>(y) * W + static_cast<size_t>(x)] = edge;
+      edge_[static_cast<size_t>(y) * W + static_cast<size_t>(x)] = edge;
       count_ += edge;
     }
 }

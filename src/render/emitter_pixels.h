@@ -38,10 +38,11 @@ class EmitterPixels {
   EmitterPixels(const RenderContext& ctx, int raysPerSample);
 
   int raysPerSample() const { return raysPerSample_; }
+  // How many pixels are on an emitter's edge, and whether (x, y) is one of them.
   size_t pixelCount() const { return count_; }
   bool covers(int x, int y) const {
-    return raysPerSample_ > 1 && !near_.empty() &&
-           near_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)];
+    return raysPerSample_ > 1 && !edge_.empty() &&
+           edge_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)];
   }
 
   // The emission the camera sees through pixel (x, y): the mean over raysPerSample() rays,
@@ -56,7 +57,7 @@ class EmitterPixels {
   int raysPerSample_ = 1;
   int rows_ = 1, cols_ = 1;  // the strata: rows_ x cols_ == raysPerSample_
   int width_ = 0;
-  std::vector<char> near_;  // per pixel
+  std::vector<char> edge_;  // per pixel: on an emitter's edge
   size_t count_ = 0;
 };
 
