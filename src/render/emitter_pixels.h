@@ -33,7 +33,7 @@ class EmitterPixels {
   EmitterPixels() = default;
   // Probes the pixels' corners and centres with one ray each. A pixel is on an emitter's
   // edge when its probes (its corners and centre, its 8 neighbours' centres) meet an
-  // emitter and do not all see the same emission: one of them meets something else.
+  // emitter and do not all meet the same: one of them meets something else.
   // Parallel and deterministic.
   EmitterPixels(const RenderContext& ctx, int raysPerSample);
 
