@@ -37,15 +37,14 @@ class EmitterPixels {
   // Parallel and deterministic.
   EmitterPixels(const RenderContext& ctx, int raysPerSample);
 
-  int raysPerSample() const { return raysPerSample_; }
   // How many pixels are on an emitter's edge, and whether (x, y) is one of them.
   size_t pixelCount() const { return count_; }
   bool covers(int x, int y) const {
-    return raysPerSample_ > 1 && !edge_.empty() &&
+    return !edge_.empty() &&
            edge_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)];
   }
 
-  // The emission the camera sees through pixel (x, y): the mean over raysPerSample() rays,
+  // The emission the camera sees through pixel (x, y): the mean over raysPerSample rays,
   // one jittered in each of as many strata of the pixel, of the emission of the surface
   // each meets first times transmittance(ray) (the media in front of it, ray.tmax at the
   // surface). `rays` counts the rays traced.
