@@ -24,7 +24,9 @@ int32_t probe(const RenderContext& ctx, float px, float py) {
 }  // namespace
 
 EmitterPixels::EmitterPixels(const RenderContext& ctx, int raysPerSample)
-    : raysPerSample_(std::max(1, raysPerSample)) {
+    : raysPerSample_(std::max(1, raysPerSample)),
+      lightSamples_(edgeLightSamples(ctx.settings.areaLightSamples)),
+      lights_(std::make_unique<const LightSet>(ctx.world, lightSamples_)) {
   strataGrid(raysPerSample_, rows_, cols_);
   const World& world = ctx.world;
   const bool anyEmitter = std::any_of(world.materials.begin(), world.materials.end(),

@@ -441,19 +441,20 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     rte::SolveCounts solveCounts;
     SurfaceHit hit;
     const bool hitSurface = ctx.tracer.intersect(ray, hit);
-    // On an emitter's edge its emission comes from rays of its own (below), not this one.
-    const bool fineEmission = emitters->covers(s.x, s.y);
+    // On an emitter's edge what comes straight from the lights (the emitters' emission and
+    // the light surfaces reflect from them) comes from rays of its own (below).
+    const bool edge = emitters->covers(s.x, s.y);
+    auto throughMedia = [&](const Ray& shadow) {
+      return volume.transmittance(shadow, solveCounts, cache.reducedShadows);
+    };
+    uint64_t shadowRays = 0;
     RGB environment(0.0f), emission(0.0f), direct(0.0f), indirect(0.0f);
     if (hitSurface) {
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
-      uint64_t shadowRays = 0;
-      auto throughMedia = [&](const Ray& shadow) {
-        return volume.transmittance(shadow, solveCounts, cache.reducedShadows);
-      };
       // The cloud carries irradiance; the texture multiplies it here, at the pixel's own
       // footprint, so texture detail is never blurred to the surfel spacing.
       const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
-      direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays, atHits);
+      if (!edge) direct = surfaceDirect(ctx, hit, albedo, rng, throughMedia, shadowRays, atHits);
       IrradianceParts irradiance;
       if (cache.gathers.empty() || !cache.gathers.lookup(px, py, hit, irradiance)) {
         thread_local TraversalScratch scratch;
@@ -469,8 +470,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
         counters.gatherRays.fetch_add(static_cast<uint64_t>(options.samples),
                                       std::memory_order_relaxed);
       }
-      counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
-      if (!fineEmission) emission = m.emission;
+      if (!edge) emission = m.emission;
       // The environment's light is direct light (the layers), though the gathers found it.
       direct += albedo * irradiance.background * kInvPi;
       indirect = albedo * irradiance.cloud * kInvPi;
@@ -490,15 +490,19 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       l = volume.radiance(ray, tEnd, behind, rng, solveCounts, partsOut);
     }
     if (layers) fillRadianceLayers(*layers, parts, emission, direct, indirect, environment);
-    if (fineEmission) {
+    if (edge) {
       uint64_t rays = 0;
-      const RGB seen = emitters->emission(
+      const EmitterPixels::Seen seen = emitters->seen(
           ctx, s.x, s.y, rng, [&](const Ray& r) { return volume.transmittance(r, solveCounts); },
-          rays);
+          throughMedia, atHits, rays, shadowRays);
       counters.emitterRays.fetch_add(rays, std::memory_order_relaxed);
-      l += seen;
-      if (layers) layers->emission += seen;
+      l += seen.emission + seen.direct;
+      if (layers) {
+        layers->emission += seen.emission;
+        layers->direct += seen.direct;
+      }
     }
+    counters.shadowRays.fetch_add(shadowRays, std::memory_order_relaxed);
     addSolveCounts(counters, solveCounts);
     return l;
   };
