@@ -51,7 +51,6 @@ inline int edgeLightSamples(int areaLightSamples) { return std::max(1, areaLight
 
 class EmitterPixels {
  public:
-  EmitterPixels() = default;
   // Probes the pixels' corners and centres with one ray each. A pixel is on an emitter's
   // edge when its probes (its corners and centre, its 8 neighbours' centres) meet an
   // emitter and do not all meet the same: one of them meets something else.
@@ -113,8 +112,11 @@ EmitterPixels::Seen EmitterPixels::seen(const RenderContext& ctx, int x, int y, 
       if (!ctx.tracer.intersect(ray, hit)) continue;
       const Material& m = world.materials[world.mesh.triangleMaterial[hit.triangle]];
       const RGB albedo = cameraHitAlbedo(ctx, m, ray, hit);
-      const RGB reflected =
-          surfaceDirect(withSamples, hit, albedo, rng, shadowTransmittance, shadowRays, subset);
+      // A black surface (a lamp's) reflects nothing: no shadow rays for it.
+      const RGB reflected = isBlack(albedo)
+                                ? RGB(0.0f)
+                                : surfaceDirect(withSamples, hit, albedo, rng, shadowTransmittance,
+                                                shadowRays, subset);
       ray.tmax = hit.t;
       const RGB throughMedia = cameraTransmittance(ray);
       sum.emission += m.emission * throughMedia;

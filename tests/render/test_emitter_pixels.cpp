@@ -230,7 +230,7 @@ TEST(EmitterPixels, EdgeRaysTakeTheLightOfTheSurfacesBesideTheEmitter) {
   // samples' worth of the edge rays (16 each, 4 light samples each) against the converged
   // value, unbiased (their sum within 3 %: its noise is about 1.1 %) and with an rms error
   // under 0.5 of that of 4 camera rays with 16 light samples each at the ray's own point,
-  // what the pixel took before (measured 0.19).
+  // what the pixel took before (measured 0.2).
   const WallView view;
   const RenderContext& ctx = view.ctx;
   const LightSet fine(view.scene.world, 64);
