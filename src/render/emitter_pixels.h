@@ -22,7 +22,7 @@
 // of the camera ray's, each with a quarter of a camera sample's area-light samples
 // (edgeLightSamples): the rays of one camera sample take 4 times its light samples, and
 // the pixel's coverage is stratified as the emitter's. On the lamp hall 1 sample per ray
-// (as many in all as the camera ray's) left half the gain, a quarter kept nearly all of
+// (as many in all as the camera ray's) took 40 % of the gain, a quarter kept nearly all of
 // what a whole camera sample's per ray gives, at a fifth of its shadow rays (docs/
 // results.md, stop 44). What reaches those surfaces through the cloud (the gathers) and
 // the media in front stay the camera ray's.
