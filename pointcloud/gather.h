@@ -7,9 +7,12 @@
 // lvoxels in front. An lvoxel crossed over a chord l adds T * J * (1 - exp(-sigma_t l))
 // with J = sigma_s / sigma_t * L_scatter its source radiance, then T *= exp(-sigma_t l)
 // (the exact RTE solution across a homogeneous cube).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 
+#include "pointcloud/gather_light_cells.h"
 #include "pointcloud/own_cube.h"
 #include "pointcloud/surfel_lookup.h"
 #include "pointcloud/traversal.h"
@@ -69,6 +72,11 @@ struct GatherOptions {
   // stratum its sample falls in, so that four gathers with the four quarters stratify
   // their directions four times as finely together (interleaved sampling).
   int quarter = -1;
+  // Irradiance gathers with traced visibility only: `lightSamples` of the `samples` rays
+  // aim at points of the lit surfaces, drawn for each receiver, the others are cosine
+  // rays, and both weigh what they reach by the balance heuristic (gather_light_cells.h).
+  const GatherLightCells* lights = nullptr;
+  int lightSamples = 0;
 
   bool tracesSurfaces() const { return tracer && (lattice || lookup); }
   long surfelAt(const SurfaceHit& hit) const {
@@ -107,8 +115,9 @@ struct GatherRayWeights {
 
   // The ray's weight at distance t.
   float scaleAt(float t) const { return t < near.end ? scale * near.share : scale; }
-  void surfel(uint32_t i, float t, bool front) {
-    sink.surfel(i, front, transmittance * scaleAt(t));
+  // `share`: the surface's multiple importance weight (1 without one).
+  void surfel(uint32_t i, float t, bool front, float share = 1.0f) {
+    sink.surfel(i, front, transmittance * (scaleAt(t) * share));
     opaqueHit = true;
   }
   bool surfelCluster(uint32_t n, float t, float coverage) {
@@ -183,12 +192,40 @@ struct RadianceSink {
   void surfaceLight(const RGB& weighted) { radiance += weighted; }
 };
 
-// One gather ray, weighted by `scale`, into the sink; the background is added behind
-// unoccluded media.
+// Passes on a gather ray's surface light alone (the light a gather's rays at the lit cells
+// estimate): the media in front only attenuate it, and a ray that leaves adds nothing.
 template <class Sink>
+struct SurfaceLightSink {
+  static constexpr bool kSurfaceOnly = true;
+  Sink& sink;
+  void beginRay(const Vec3& dir) { sink.beginRay(dir); }
+  void surfel(uint32_t i, bool front, const RGB& w) { sink.surfel(i, front, w); }
+  void surfaceLight(const RGB& weighted) { sink.surfaceLight(weighted); }
+  void surfelCluster(uint32_t, const RGB&) {}
+  void lvoxel(uint32_t, const RGB&) {}
+  void lvoxelCluster(uint32_t, const RGB&) {}
+  void addBackground(const RGB&) {}
+};
+
+template <class Sink>
+constexpr bool surfaceOnly() {
+  if constexpr (requires { Sink::kSurfaceOnly; }) return Sink::kSurfaceOnly;
+  return false;
+}
+
+// The surface's share of a gather ray's weight: all of it.
+struct WholeSurface {
+  float operator()(const Ray&, const SurfaceHit&) const { return 1.0f; }
+};
+
+// One gather ray, weighted by `scale`, into the sink; the background is added behind
+// unoccluded media. With traced visibility the surface it reaches counts `share(ray, hit)`
+// of that weight (a multiple importance weight); a sink of the surface's light alone skips
+// the media of a ray whose surface counts nothing.
+template <class Sink, class Share = WholeSurface>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
                     float scale, TraversalScratch& scratch, Sink& sink, NearField near = {},
-                    long own = -1) {
+                    long own = -1, const Share& share = {}) {
   sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
   weights.own = own;
@@ -201,6 +238,10 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     traced.tmin = 4.0f * options.tracer->epsilon();
     SurfaceHit hit;
     const bool hitSurface = options.tracer->intersect(traced, hit);
+    const float surfaceShare = hitSurface ? share(ray, hit) : 0.0f;
+    if constexpr (surfaceOnly<Sink>()) {
+      if (!(surfaceShare > 0.0f)) return;  // occluded: nothing of the media counts either
+    }
     traced.tmax = hitSurface ? hit.t : ray.tmax;
     // The epsilons are the surface's: a ray that starts inside a medium (an lvoxel's
     // gather) meets the lvoxels from its own start, else it would miss a sliver of its own
@@ -211,14 +252,14 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle, false}, scratch);
     if (hitSurface) {
       weights.opaqueHit = true;
-      if (maxComponent(weights.transmittance) >= options.minTransmittance) {
+      if (surfaceShare > 0.0f && maxComponent(weights.transmittance) >= options.minTransmittance) {
         if (options.hitLight)
-          sink.surfaceLight(weights.transmittance * weights.scaleAt(hit.t) *
+          sink.surfaceLight(weights.transmittance * (weights.scaleAt(hit.t) * surfaceShare) *
                             options.hitLight->reflected(hit));
         const long surfel = options.surfelAt(hit);
         if (surfel >= 0) {
           const auto i = static_cast<uint32_t>(surfel);
-          weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f);
+          weights.surfel(i, hit.t, dot(cloud.surfels().normal(i), ray.dir) < 0.0f, surfaceShare);
         }
       }
     }
@@ -236,17 +277,79 @@ RGB gatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& opti
 // rows x cols strata with rows * cols == n exactly (rows = largest divisor <= sqrt(n)).
 void strataGrid(int n, int& rows, int& cols);
 
+// The rays of an irradiance gather that aim at the lit cells (GatherOptions::lightSamples):
+// none without traced visibility or cells, and at least one cosine ray always.
+inline int lightRaysOf(const GatherOptions& options) {
+  if (!options.lights || options.lights->empty() || !options.tracesSurfaces()) return 0;
+  return std::clamp(options.lightSamples, 0, options.samples - 1);
+}
+
+// Directions' densities of an irradiance gather's two kinds of ray, times their counts: the
+// cosine rays' n_c cos / pi and the lights' n_l q(y) d^2 / |cos_y| for the surface point y
+// at distance d in that direction (solid-angle density of an area density).
+struct GatherMis {
+  const GatherLightCells* lights = nullptr;
+  GatherLightCells::View view;  // the lights' weights for this receiver
+  Vec3 normal;
+  float cosineRays = 0.0f, lightRays = 0.0f;
+
+  float lightDensity(const Ray& ray, const SurfaceHit& hit) const {
+    const float q = lights->pdfArea(view, hit.triangle, hit.b1, hit.b2, -ray.dir);
+    if (!(q > 0.0f)) return 0.0f;
+    const float cosAtHit = std::abs(dot(hit.normal, ray.dir));
+    return lightRays * q * hit.t * hit.t / std::max(cosAtHit, 1e-7f);
+  }
+  float cosineDensity(float cosine) const { return cosineRays * cosine * kInvPi; }
+};
+
+// A cosine ray's surface: weight n_c p_c / (n_c p_c + n_l p_l) of what the cosine rays
+// alone would give it.
+struct CosineRayShare {
+  const GatherMis& mis;
+  float operator()(const Ray& ray, const SurfaceHit& hit) const {
+    const float pc = mis.cosineDensity(dot(mis.normal, ray.dir));
+    return pc > 0.0f ? pc / (pc + mis.lightDensity(ray, hit)) : 0.0f;
+  }
+};
+
+// A ray at a cell's point: the surface counts only where the ray reaches that point (the
+// same triangle at the same distance); anything in front occludes it.
+struct LightRayShare {
+  uint32_t triangle;
+  float distance;
+  float operator()(const Ray&, const SurfaceHit& hit) const {
+    return hit.triangle == triangle && std::abs(hit.t - distance) <= 1e-3f * distance ? 1.0f : 0.0f;
+  }
+};
+
 // Irradiance E [W/m^2] at p with unit normal n: E = pi / N * sum L_i over N stratified
 // cosine-weighted directions (cosine-weighted pdf cos/pi: E = integral L cos dw =
 // pi * mean(L)), into the sink. Outgoing Lambertian radiance is albedo * E / pi.
+// With lit cells (GatherOptions::lights) n_l of the N rays aim at points y the cells draw,
+// and the surface light L_s of either kind of ray counts by the balance heuristic: the
+// integral of L_s cos over the hemisphere is estimated by
+//   sum over all rays of L_s cos / (n_c cos / pi + n_l q(y) d^2 / |cos_y|),
+// which for a cosine ray is pi / n_c L_s times its share. The media's light along the rays
+// and the background are the cosine rays' alone, as without cells.
 template <class Sink>
 void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                           const GatherOptions& options, Rng& rng, TraversalScratch& scratch,
                           Sink& sink) {
+  int lightRays = lightRaysOf(options);
+  GatherMis mis;
+  if (lightRays > 0) {
+    mis.lights = options.lights;
+    mis.view = options.lights->view(p, n);
+    mis.normal = n;
+    if (mis.view.empty()) lightRays = 0;  // no light could reach this receiver
+  }
   int rows, cols;
-  strataGrid(options.samples, rows, cols);
+  strataGrid(options.samples - lightRays, rows, cols);
   const Frame frame(n);
   const float scale = kPi / static_cast<float>(rows * cols);
+  mis.cosineRays = static_cast<float>(rows * cols);
+  mis.lightRays = static_cast<float>(lightRays);
+  const bool aimed = lightRays > 0;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       float j1 = rng.uniform(), j2 = rng.uniform();
@@ -257,8 +360,32 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
       const float u1 = (static_cast<float>(r) + j1) / static_cast<float>(rows);
       const float u2 = (static_cast<float>(c) + j2) / static_cast<float>(cols);
       const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
-      traceGatherRay(cloud, ray, options, scale, scratch, sink);
+      if (aimed)
+        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis});
+      else
+        traceGatherRay(cloud, ray, options, scale, scratch, sink);
     }
+  if (!aimed) return;
+  SurfaceLightSink<Sink> surfaceLight{sink};
+  for (int k = 0; k < lightRays; ++k) {  // stratified over the regions' cumulative weight
+    // Not interleaved over neighbouring gathers as the cosine rays are (`quarter`): their
+    // regions' weights differ, and so would the quarters' share of the regions.
+    const float u1 = (static_cast<float>(k) + rng.uniform()) / static_cast<float>(lightRays);
+    const float u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
+    const GatherLightCells::Sample y = options.lights->sample(mis.view, u1, u2, u3, u4);
+    Vec3 dir = y.point - p;
+    const float distance = length(dir);
+    if (!(distance > 0.0f) || !(y.pdfArea > 0.0f)) continue;
+    dir = dir / distance;
+    const float cosine = dot(n, dir);
+    const float cosAtY = -dot(y.normal, dir);  // the lit side must face the receiver
+    if (!(cosine > 0.0f) || !(cosAtY > 0.0f)) continue;
+    const float pl = static_cast<float>(lightRays) * y.pdfArea * distance * distance / cosAtY;
+    const float weight = cosine / (mis.cosineDensity(cosine) + pl);
+    if (!std::isfinite(weight)) continue;
+    traceGatherRay(cloud, Ray{p, dir, options.rayOffset, kInf}, options, weight, scratch,
+                   surfaceLight, {}, -1, LightRayShare{y.triangle, distance});
+  }
 }
 
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,

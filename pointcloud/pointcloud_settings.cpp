@@ -1,5 +1,8 @@
 #include "pointcloud/pointcloud_settings.h"
 
+#include <algorithm>
+#include <string>
+
 #include "src/core/math.h"
 #include "src/core/names.h"
 
@@ -98,9 +101,17 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
   s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
+  s.gatherLightSamples = p.integer("gather_light_samples", 0, 1 << 16, s.gatherLightSamples);
+  if (s.gatherLightSamples >= s.gatherSamples)
+    p.fail("gather_light_samples", "must be less than gather_samples (" +
+                                       std::to_string(s.gatherSamples) +
+                                       "): a gather keeps a cosine ray");
   s.lvoxelClusterSolidAngle = p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi,
                                        defaultLvoxelClusterSolidAngle(s.gatherVisibility));
   s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
+  if (s.gatherLightSamples > 0 && s.gatherVisibility != GatherVisibility::kRays)
+    p.fail("gather_light_samples",
+           "needs \"gather_visibility\": \"rays\" (a disk hit has no triangle to aim at)");
   p.finish();
   return s;
 }
@@ -128,6 +139,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "hit_lattice_step", s.hitLatticeStep);
   l.add(p + "surfel_gather_samples", s.surfelGatherSamples);
   l.add(p + "gather_samples", s.gatherSamples);
+  l.add(p + "gather_light_samples", s.gatherLightSamples);
   l.add(p + "gather_spacing", s.gatherSpacing);
   l.add(p + "gather_filter", s.gatherFilter);
   l.add(p + "gather_fit", gatherFitName(s.gatherFit));

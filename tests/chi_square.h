@@ -21,9 +21,9 @@
 
 namespace lvox::test {
 
-// Chi-square tests in tests/core, tests/volume, tests/world and tests/render together (update when
-// adding one).
-inline constexpr int kChiSquareTests = 23;
+// Chi-square tests in tests/core, tests/volume, tests/world, tests/pointcloud and tests/render
+// together (update when adding one).
+inline constexpr int kChiSquareTests = 24;
 inline constexpr double kChiSquareAlpha = 0.01 / kChiSquareTests;
 
 // Regularised upper incomplete gamma Q(a, x) = Gamma(a, x) / Gamma(a): series below

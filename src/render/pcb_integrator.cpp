@@ -125,6 +125,50 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
   return o;
 }
 
+// The final gathers' options: `samples` rays, the cells' share of them as the settings'
+// share of gather_samples (a pixel's gathers split over its samples split both kinds).
+GatherOptions finalGatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
+                                 const PointCloudSettings& settings, float spacing, int samples) {
+  GatherOptions o =
+      gatherOptions(ctx, cache, settings, spacing, samples, cache.environmentInGathers);
+  o.lights = cache.gatherLights.get();
+  o.lightSamples = static_cast<int>(static_cast<long>(settings.gatherLightSamples) * samples /
+                                    std::max(1, settings.gatherSamples));
+  return o;
+}
+
+// The lit surfaces' cells for the final gathers, about two surfel spacings across: about
+// one cell per surfel (a triangle of m x m cells has 4 area / step^2 of them for a right
+// isosceles one), enough to pick out a lamp's bright spot, which spans many surfels.
+constexpr float kLightCellSpacings = 2.0f;
+
+void buildGatherLights(const RenderContext& ctx, const PointCloudSettings& settings, float spacing,
+                       const std::string& sceneFile, PointBasedCache& cache, Report& report) {
+  if (settings.gatherLightSamples <= 0 || !(cache.lattice || cache.lookup)) return;
+  PhaseTimer timer(report, "gather_light_cells");
+  const float step = kLightCellSpacings * spacing;
+  size_t cells = 0;
+  for (size_t t = 0; t < ctx.world.mesh.triangleCount(); ++t) {
+    const uint32_t m =
+        GatherLightCells::divisionsOf(ctx.world.mesh.vertex(t, 0), ctx.world.mesh.vertex(t, 1),
+                                      ctx.world.mesh.vertex(t, 2), step);
+    cells += static_cast<size_t>(m) * m;
+  }
+  const char* field = "pointcloud.gather_light_samples";
+  if (cells >= (size_t{1} << 31))  // two sides per cell, indexed in 32 bits
+    throw InputError(sceneFile, field,
+                     "the lit surfaces' cells would number " + std::to_string(cells) +
+                         ", 2^31 or more; raise the surfel spacing or set it to 0");
+  if (ctx.budget)
+    ctx.budget->check(GatherLightCells::bytesFor(cells, ctx.world.mesh.triangleCount()), sceneFile,
+                      field, "the lit surfaces' cells (" + std::to_string(cells) + ")");
+  const GatherOptions options = gatherOptions(ctx, cache, settings, spacing, 1);
+  cache.gatherLights =
+      std::make_unique<GatherLightCells>(ctx.world.mesh, *cache.cloud, options, step);
+  report.add("gather_light_cells", cache.gatherLights->cells());
+  report.memory["gather_light_cells"] = cache.gatherLights->memoryBytes();
+}
+
 // Ray-traced visibility's surfel at each gather hit: the exact lookup, and from it the
 // triangle lattice unless "hit_lattice_step" is 0. The lookup is dropped once the lattice
 // holds its answers: the gathers read the lattice only.
@@ -404,10 +448,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   }
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);
+  buildGatherLights(ctx, settings, spacing, sceneFile, cache, report);
   if (settings.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
-    const GatherOptions options = gatherOptions(ctx, cache, settings, spacing,
-                                                settings.gatherSamples, cache.environmentInGathers);
+    const GatherOptions options =
+        finalGatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
                                  settings.gatherFilter, settings.gatherFit, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
@@ -429,8 +474,7 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                         SamplerCounters& counters) {
   const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
   const GatherOptions options =
-      gatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample,
-                    cache.environmentInGathers);
+      finalGatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
   auto emitters = std::make_shared<const EmitterPixels>(ctx, ctx.settings.emitterSamples);
   return [&ctx, &volume, &cache, &counters, options, atHits, emitters](

@@ -38,6 +38,9 @@ struct PointBasedCache {
   // With ray-traced visibility and delta lights in the scene: their light at each gather hit, which
   // the surfels then leave out (delta_hit_light.h).
   std::unique_ptr<DeltaHitLight> hitLight;
+  // With ray-traced visibility and "gather_light_samples" > 0: the lit surfaces' cells the
+  // final gathers aim a share of their rays at (gather_light_cells.h).
+  std::unique_ptr<GatherLightCells> gatherLights;
   // With ray-traced visibility and a constant environment: the final gathers' rays that leave the
   // cloud see it, through the lvoxels they passed, and the camera hits' direct light leaves it out;
   // with interreflection passes too, the surfels' gathers bring their share of it and their direct

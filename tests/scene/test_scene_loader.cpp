@@ -97,6 +97,18 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
   expectError(withPointCloud("\"lvoxel_near_reach\": -1"),
               {"pointcloud.lvoxel_near_reach", "outside"});
   expectError(withPointCloud("\"gather_filter\": 0.5"), {"pointcloud.gather_filter", "outside"});
+  EXPECT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.gatherLightSamples, 0);
+  EXPECT_EQ(parseScene(withPointCloud("\"gather_samples\": 32, \"gather_light_samples\": 8"),
+                       "/tmp/scene.json")
+                .pointcloud.gatherLightSamples,
+            8);
+  // A gather keeps at least one cosine ray: the sky and the media come by those alone.
+  expectError(withPointCloud("\"gather_samples\": 16, \"gather_light_samples\": 16"),
+              {"pointcloud.gather_light_samples", "less than gather_samples (16)"});
+  expectError(withPointCloud("\"gather_light_samples\": -1"),
+              {"pointcloud.gather_light_samples", "outside"});
+  expectError(withPointCloud("\"gather_light_samples\": 8, \"gather_visibility\": \"cloud\""),
+              {"pointcloud.gather_light_samples", "gather_visibility"});
   expectError(withPointCloud("\"burial_reach\": -1"), {"pointcloud.burial_reach", "outside"});
   expectError(withPointCloud("\"bounces\": 5000"), {"pointcloud.bounces", "outside"});
   expectError(withPointCloud("\"gather_visibility\": \"exact\""),
