@@ -101,9 +101,12 @@ GatherLightCells::GatherLightCells(const TriangleMesh& mesh, const PointCloud& c
           hit.b1 = centre.b1;
           hit.b2 = centre.b2;
           hit.normal = side == 0 ? tri.normal : -tri.normal;
-          hit.shading = mesh.normals.empty() ? hit.normal
-                                             : mesh.shadingNormalAt(t, centre.b1, centre.b2) *
-                                                   (side == 0 ? 1.0f : -1.0f);
+          // The shading normal on the hit's side, as the tracer gives it.
+          hit.shading = hit.normal;
+          if (!mesh.normals.empty()) {
+            const Vec3 shading = mesh.shadingNormalAt(t, centre.b1, centre.b2);
+            hit.shading = dot(shading, hit.normal) < 0.0f ? -shading : shading;
+          }
           RGB l(0.0f);
           if (options.hitLight) l += options.hitLight->reflected(hit);
           const long s = options.tracesSurfaces() ? options.surfelAt(hit) : -1;

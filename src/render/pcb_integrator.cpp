@@ -138,8 +138,9 @@ GatherOptions finalGatherOptions(const RenderContext& ctx, const PointBasedCache
 }
 
 // The lit surfaces' cells for the final gathers, about two surfel spacings across: about
-// one cell per surfel (a triangle of m x m cells has 4 area / step^2 of them for a right
-// isosceles one), enough to pick out a lamp's bright spot, which spans many surfels.
+// one cell per surfel on large triangles (a right isosceles one of m x m cells has
+// 4 area / step^2 of them), one at least on each small one (3.3 per surfel on Sponza),
+// fine enough to pick out a lamp's bright spot, which spans many surfels.
 constexpr float kLightCellSpacings = 2.0f;
 
 void buildGatherLights(const RenderContext& ctx, const PointCloudSettings& settings, float spacing,
@@ -166,6 +167,7 @@ void buildGatherLights(const RenderContext& ctx, const PointCloudSettings& setti
   cache.gatherLights =
       std::make_unique<GatherLightCells>(ctx.world.mesh, *cache.cloud, options, step);
   report.add("gather_light_cells", cache.gatherLights->cells());
+  report.add("gather_light_regions", cache.gatherLights->regions());
   report.memory["gather_light_cells"] = cache.gatherLights->memoryBytes();
 }
 
