@@ -53,6 +53,15 @@ uint32_t GatherLightCells::divisionsOf(const Vec3& a, const Vec3& b, const Vec3&
   return static_cast<uint32_t>(std::clamp(std::isfinite(m) ? m : 1.0f, 1.0f, kMaxDivisions));
 }
 
+size_t GatherLightCells::cellsFor(const TriangleMesh& mesh, float step) {
+  size_t cells = 0;
+  for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const uint32_t m = divisionsOf(mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2), step);
+    cells += static_cast<size_t>(m) * m;
+  }
+  return cells;
+}
+
 uint32_t GatherLightCells::cellOf(uint32_t m, float b1, float b2) {
   const float fm = static_cast<float>(m);
   const float u = std::clamp(b1, 0.0f, 1.0f) * fm, v = std::clamp(b2, 0.0f, 1.0f) * fm;
@@ -237,7 +246,7 @@ float GatherLightCells::importance(const Region& r, const Vec3& p, const Vec3& n
   // theta_w - theta_spread - theta_b.
   const float cosW = dot(r.axis, w);
   const float cosA = cosOfDifference(cosW, sinOf(cosW), r.cosSpread, r.sinSpread);
-  const float cosLight = cosA >= cosB ? 1.0f : cosOfDifference(cosA, sinOf(cosA), cosB, sinB);
+  const float cosLight = cosOfDifference(cosA, sinOf(cosA), cosB, sinB);
   if (!(cosLight > 0.0f)) return 0.0f;
   // At the receiver: the angle between n and -w is at least theta_i - theta_b.
   const float cosI = -dot(n, w);
@@ -322,10 +331,15 @@ GatherLightCells::Sample GatherLightCells::pointOf(uint32_t region, float u1, fl
   uniformTriangle(u2, u3, beta1, beta2);
   Sample s = pointIn(t, cell - triangles_[t].first, beta1, beta2);
   if (entryKey_[entry] & 1u) s.normal = -s.normal;
-  // The density given the region: its share of the region's power over the cell's area.
-  const double chosen = entryCdf_[entry + 1] - entryCdf_[entry];
-  s.pdfArea = static_cast<float>(chosen / span / triangles_[t].cellArea);
+  s.pdfArea = static_cast<float>(densityInRegion(entry, triangles_[t].cellArea));
   return s;
+}
+
+double GatherLightCells::densityInRegion(uint32_t entry, float cellArea) const {
+  const Region& r = regions_[regionOf_[entry]];
+  const double share =
+      (entryCdf_[entry + 1] - entryCdf_[entry]) / (entryCdf_[r.end] - entryCdf_[r.first]);
+  return share / static_cast<double>(cellArea);
 }
 
 float GatherLightCells::pdfArea(const View& view, uint32_t triangle, float b1, float b2,
@@ -337,11 +351,8 @@ float GatherLightCells::pdfArea(const View& view, uint32_t triangle, float b1, f
   const uint32_t entry = entryOfSide_[2 * cell + (dot(tri.normal, towards) > 0.0f ? 0u : 1u)];
   if (entry == kNone) return 0.0f;
   const uint32_t region = regionOf_[entry];
-  const Region& r = regions_[region];
-  const double span = entryCdf_[r.end] - entryCdf_[r.first];
-  const double chosen = entryCdf_[entry + 1] - entryCdf_[entry];
   return static_cast<float>(static_cast<double>(view.cdf_[region + 1] - view.cdf_[region]) *
-                            chosen / span / tri.cellArea);
+                            densityInRegion(entry, tri.cellArea));
 }
 
 size_t GatherLightCells::memoryBytes() const {

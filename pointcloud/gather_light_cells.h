@@ -85,7 +85,9 @@ class GatherLightCells {
   // that faces `towards` (a direction from the point): per unit area.
   float pdfArea(const View& view, uint32_t triangle, float b1, float b2, const Vec3& towards) const;
   size_t memoryBytes() const;
-  // The bytes of that many cells over that many triangles, at most (before they are built).
+  // The cells of a mesh at that step, and the bytes of that many cells over that many
+  // triangles, at most (before they are built, for the memory budget).
+  static size_t cellsFor(const TriangleMesh& mesh, float step);
   static size_t bytesFor(size_t cells, size_t triangles);
 
   // The cell of barycentrics (b1, b2) among a triangle's m x m: cells (i, j) with
@@ -114,6 +116,8 @@ class GatherLightCells {
   // The point of barycentrics (beta1, beta2) in cell `cell` of triangle t.
   Sample pointIn(uint32_t t, uint32_t cell, float beta1, float beta2) const;
   uint32_t triangleOfCell(uint32_t cell) const;
+  // A light's density over its cell's area given its region: its share of the region's power.
+  double densityInRegion(uint32_t entry, float cellArea) const;
   void buildRegions(const std::vector<Vec3>& position, const std::vector<Vec3>& normal,
                     const std::vector<float>& power, const std::vector<uint32_t>& key);
 

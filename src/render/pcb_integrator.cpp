@@ -148,13 +148,7 @@ void buildGatherLights(const RenderContext& ctx, const PointCloudSettings& setti
   if (settings.gatherLightSamples <= 0 || !(cache.lattice || cache.lookup)) return;
   PhaseTimer timer(report, "gather_light_cells");
   const float step = kLightCellSpacings * spacing;
-  size_t cells = 0;
-  for (size_t t = 0; t < ctx.world.mesh.triangleCount(); ++t) {
-    const uint32_t m =
-        GatherLightCells::divisionsOf(ctx.world.mesh.vertex(t, 0), ctx.world.mesh.vertex(t, 1),
-                                      ctx.world.mesh.vertex(t, 2), step);
-    cells += static_cast<size_t>(m) * m;
-  }
+  const size_t cells = GatherLightCells::cellsFor(ctx.world.mesh, step);
   const char* field = "pointcloud.gather_light_samples";
   if (cells >= (size_t{1} << 31))  // two sides per cell, indexed in 32 bits
     throw InputError(sceneFile, field,
