@@ -1,8 +1,10 @@
 #include "pointcloud/pointcloud_settings.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 
+#include "src/core/error.h"
 #include "src/core/math.h"
 #include "src/core/names.h"
 
@@ -21,6 +23,15 @@ constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
                                           {GatherFit::kLinear, "linear"}};
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
                                                    {LvoxelLightBlend::kExponential, "exponential"}};
+
+// "gather_samples" given as a string: only "auto".
+int parseAutoGatherSamples(std::string_view text, const std::string& file,
+                           const std::string& field) {
+  if (text != "auto")
+    throw InputError(file, field,
+                     "expected a count of rays or \"auto\", got \"" + std::string(text) + "\"");
+  return kAutoGatherSamples;
+}
 
 }  // namespace
 
@@ -65,6 +76,21 @@ LvoxelLightBlend parseLvoxelLightBlend(std::string_view name, const std::string&
 
 std::string_view lvoxelLightBlendName(LvoxelLightBlend b) { return nameOf(b, kBlendNames); }
 
+int finalGatherSamples(const PointCloudSettings& s, uint64_t cloudGatherRays,
+                       uint64_t finalGatherPoints) {
+  if (s.gatherSamples != kAutoGatherSamples) return s.gatherSamples;
+  constexpr uint64_t kMultiple = 16;  // strataGrid then finds rows and columns near square
+  const uint64_t points = std::max<uint64_t>(finalGatherPoints, 1);
+  const uint64_t perPoint = (cloudGatherRays + points - 1) / points;
+  const uint64_t rounded = (perPoint + kMultiple - 1) / kMultiple * kMultiple;
+  return static_cast<int>(
+      std::clamp<uint64_t>(rounded, kMinAutoGatherSamples, kMaxAutoGatherSamples));
+}
+
+int gatherLightSamplesBase(const PointCloudSettings& s) {
+  return s.gatherSamples == kAutoGatherSamples ? kMinAutoGatherSamples : s.gatherSamples;
+}
+
 float defaultLvoxelClusterSolidAngle(GatherVisibility v) {
   return v == GatherVisibility::kCloud ? 0.03f : 0.0f;
 }
@@ -100,12 +126,19 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
-  s.gatherSamples = p.integer("gather_samples", 1, 1 << 16, s.gatherSamples);
+  // A count (a JSON number) or "auto".
+  s.gatherSamples = p.has("gather_samples") && p.raw("gather_samples").is_number()
+                        ? p.integer("gather_samples", 1, 1 << 16, std::nullopt)
+                        : p.choice("gather_samples", "auto", parseAutoGatherSamples);
   s.gatherLightSamples = p.integer("gather_light_samples", 0, 1 << 16, s.gatherLightSamples);
-  if (s.gatherLightSamples >= s.gatherSamples)
-    p.fail("gather_light_samples", "must be less than gather_samples (" +
-                                       std::to_string(s.gatherSamples) +
-                                       "): a gather keeps a cosine ray");
+  if (s.gatherLightSamples >= gatherLightSamplesBase(s))
+    p.fail("gather_light_samples",
+           "must be less than " +
+               (s.gatherSamples == kAutoGatherSamples
+                    ? "the " + std::to_string(kMinAutoGatherSamples) +
+                          " rays that \"gather_samples\": \"auto\" gives at least"
+                    : "gather_samples (" + std::to_string(s.gatherSamples) + ")") +
+               ": a gather keeps a cosine ray");
   s.lvoxelClusterSolidAngle = p.number("lvoxel_cluster_solid_angle", 0.0f, 4.0f * kPi,
                                        defaultLvoxelClusterSolidAngle(s.gatherVisibility));
   s.clusterSolidAngle = p.number("cluster_solid_angle", 0.0f, 4.0f * kPi, s.clusterSolidAngle);
@@ -138,7 +171,10 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);
   l.add(p + "surfel_gather_samples", s.surfelGatherSamples);
-  l.add(p + "gather_samples", s.gatherSamples);
+  if (s.gatherSamples == kAutoGatherSamples)
+    l.add(p + "gather_samples", "auto");
+  else
+    l.add(p + "gather_samples", s.gatherSamples);
   l.add(p + "gather_light_samples", s.gatherLightSamples);
   l.add(p + "gather_spacing", s.gatherSpacing);
   l.add(p + "gather_filter", s.gatherFilter);

@@ -1,6 +1,7 @@
 #pragma once
 // Settings of the point cloud (the scene file's "pointcloud" section), typed, with their
 // parser beside them. Docs: docs/scene-format.md and docs/pointcloud.md.
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -26,6 +27,17 @@ enum class BounceTail { kNone, kGeometric };
 // weighted mean, or a plane through them evaluated at the sample (local linear regression;
 // src/render/indirect_grid.h).
 enum class GatherFit { kConstant, kLinear };
+
+// "gather_samples": "auto" (the default): the final gathers trace as many rays as the
+// interreflection's gathers did, spread over the final gathers' points, rounded up to a
+// multiple of 16, within [kMinAutoGatherSamples, kMaxAutoGatherSamples]. Where the image
+// is large against the cloud (the atrium at 512 x 512: 66,049 points, Sponza) that is the
+// minimum, 64, the fixed count of stops 38-46; where the cloud's gathers are most of the
+// work (small images of lamp-lit rooms) the final gathers, whose noise is there the
+// largest term of the error, get more (docs/pcb.md, "How many final gather rays").
+constexpr int kAutoGatherSamples = 0;
+constexpr int kMinAutoGatherSamples = 64;
+constexpr int kMaxAutoGatherSamples = 512;
 
 struct PointCloudSettings {
   float surfelSpacing = 0.0f;  // 0: derived from the total surface area
@@ -61,10 +73,13 @@ struct PointCloudSettings {
   // nearest-surfel search at every hit (surfel_lookup.h).
   float hitLatticeStep = 0.7f;
   int surfelGatherSamples = 4;  // hemisphere rays per surfel side and pass
-  int gatherSamples = 64;       // gather rays per pixel (split over its samples)
-  // Of those, the rays that aim at the lit surfaces' cells (gather_light_cells.h); 0: all
-  // cosine rays. Less than gatherSamples. Off by default: a quarter of the rays takes 6-7 %
-  // off the noise of lamp-lit rooms and adds 2-3 % to sunlit scenes' (docs/pcb.md).
+  // Final gather rays per pixel (split over its samples), or kAutoGatherSamples: chosen
+  // once the cloud is lit (finalGatherSamples).
+  int gatherSamples = kAutoGatherSamples;
+  // Of those, the rays that aim at the lit surfaces' cells (gather_light_cells.h), as a
+  // share of gatherSamples, or of kMinAutoGatherSamples under auto; 0: all cosine rays.
+  // Off by default: a quarter of the rays takes 6-7 % off the noise of lamp-lit rooms and
+  // adds 2-3 % to sunlit scenes' (docs/pcb.md).
   int gatherLightSamples = 0;
   int gatherSpacing = 2;      // pixels between final gathers; 1: every camera hit
   float gatherFilter = 3.0f;  // tent half-width over final gathers, in gathers
@@ -82,6 +97,14 @@ float defaultLvoxelClusterSolidAngle(GatherVisibility v);
 PointCloudSettings parsePointCloudSettings(JsonObject p);
 // Every field, as "pointcloud.<key>" and the value the parser reads back.
 SettingList describe(const PointCloudSettings& s);
+
+// The final gathers' rays per pixel: gatherSamples, or under auto the rule above, given the
+// rays the interreflection's gathers traced (all ranks together) and the number of final
+// gather points (grid points, or pixels where every camera hit gathers).
+int finalGatherSamples(const PointCloudSettings& s, uint64_t cloudGatherRays,
+                       uint64_t finalGatherPoints);
+// The count gatherLightSamples is a share of: gatherSamples, or kMinAutoGatherSamples.
+int gatherLightSamplesBase(const PointCloudSettings& s);
 
 GatherVisibility parseGatherVisibility(std::string_view name, const std::string& file,
                                        const std::string& field);

@@ -28,8 +28,8 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
   const Camera& camera = ctx.world.camera;
   // Grid points at the centres of pixels 0, s, 2s, ... plus one past the last pixel, so
   // every pixel lies between grid points.
-  nx_ = (camera.width - 1) / spacing_ + 2;
-  ny_ = (camera.height - 1) / spacing_ + 2;
+  nx_ = pointsAlong(camera.width, spacing_);
+  ny_ = pointsAlong(camera.height, spacing_);
   points_.resize(static_cast<size_t>(nx_ * ny_));
   // Per point the irradiance from the cloud, then from the background.
   std::vector<RGB> irradiance(2 * points_.size(), RGB(0.0f));
@@ -71,6 +71,14 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
     points_[k].irradiance = {irradiance[2 * k], irradiance[2 * k + 1]};
     points_[k].valid = hits[k] && isFinite(irradiance[2 * k]) && isFinite(irradiance[2 * k + 1]);
   }
+}
+
+long IndirectGrid::pointsAlong(int pixels, int spacing) {
+  return (pixels - 1) / std::max(1, spacing) + 2;
+}
+
+size_t IndirectGrid::pointsFor(int width, int height, int spacing) {
+  return static_cast<size_t>(pointsAlong(width, spacing) * pointsAlong(height, spacing));
 }
 
 template <class F>

@@ -36,6 +36,9 @@ class IndirectGrid {
                int spacing, float filterRadius, GatherFit fit, uint64_t seed,
                Collective& team = singleProcess());
 
+  // The grid points over a width x height image at that spacing (the constructor's).
+  static size_t pointsFor(int width, int height, int spacing);
+
   bool empty() const { return points_.empty(); }
   size_t pointCount() const { return points_.size(); }
   // Irradiance at the camera sample at image position (px, py) whose hit is `hit`, split as
@@ -51,6 +54,8 @@ class IndirectGrid {
     float reach = 0.0f;      // how far along the surface the point may be used
     bool valid = false;
   };
+  // Grid points along `pixels` pixels: pixels 0, s, 2s, ... and one past the last.
+  static long pointsAlong(int pixels, int spacing);
   const Point& at(long i, long j) const { return points_[static_cast<size_t>(j * nx_ + i)]; }
   // f(point, tent weight, offset along x, along y in grid spacings) for every grid point
   // within the tent about (u, v) that is valid for the hit.

@@ -133,7 +133,7 @@ GatherOptions finalGatherOptions(const RenderContext& ctx, const PointBasedCache
       gatherOptions(ctx, cache, settings, spacing, samples, cache.environmentInGathers);
   o.lights = cache.gatherLights.get();
   o.lightSamples = static_cast<int>(static_cast<long>(settings.gatherLightSamples) * samples /
-                                    std::max(1, settings.gatherSamples));
+                                    gatherLightSamplesBase(settings));
   return o;
 }
 
@@ -397,6 +397,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     cacheDirect(ctx, volume, settings, cache, counts, team, report);
   }
   const int passes = settings.bounces;
+  uint64_t cloudGatherRays = 0;
   if (passes > 0) {
     PhaseTimer timer(report, "interreflection");
     const GatherOptions surfelOptions =
@@ -419,6 +420,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                                      settings.bounceTail == BounceTail::kGeometric);
     const InterreflectionStats stats = cacheInterreflection(
         *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan, seed, team, reserve);
+    cloudGatherRays = stats.gatherRays;
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
@@ -445,10 +447,17 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
   report.add("cache_medium_evals", counts.mediumEvals);
   reportCloud(cache, spacing, report);
   buildGatherLights(ctx, settings, spacing, sceneFile, cache, report);
+  const Camera& camera = ctx.world.camera;
+  const uint64_t finalGatherPoints =
+      settings.gatherSpacing > 1
+          ? IndirectGrid::pointsFor(camera.width, camera.height, settings.gatherSpacing)
+          : static_cast<uint64_t>(camera.width) * static_cast<uint64_t>(camera.height);
+  cache.gatherSamples = finalGatherSamples(settings, cloudGatherRays, finalGatherPoints);
+  report.settings["final_gather_samples"] = std::to_string(cache.gatherSamples);
   if (settings.gatherSpacing > 1) {
     PhaseTimer timer(report, "gather_grid");
     const GatherOptions options =
-        finalGatherOptions(ctx, cache, settings, spacing, settings.gatherSamples);
+        finalGatherOptions(ctx, cache, settings, spacing, cache.gatherSamples);
     cache.gathers = IndirectGrid(ctx, *cache.cloud, options, settings.gatherSpacing,
                                  settings.gatherFilter, settings.gatherFit, seed, team);
     report.add("grid_gathers", cache.gathers.pointCount());
@@ -468,7 +477,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
 PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
                         const PointBasedCache& cache, const PointCloudSettings& settings, int spp,
                         SamplerCounters& counters) {
-  const int perSample = std::max(1, settings.gatherSamples / std::max(1, spp));
+  const int perSample = std::max(1, cache.gatherSamples / std::max(1, spp));
   const GatherOptions options =
       finalGatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};

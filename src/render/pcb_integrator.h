@@ -31,6 +31,8 @@ struct PointBasedCache {
   // through the media without their phases' forward peaks (pcb_media.h).
   bool reducedShadows = false;
   IndirectGrid gathers;  // final gathers at a reduced rate; empty: at every camera hit
+  // The final gathers' rays per pixel (finalGatherSamples: gather_samples, or auto's).
+  int gatherSamples = kMinAutoGatherSamples;
   // "gather_visibility": "rays" only: the surfel standing for each gather ray's hit, from
   // the triangle lattice, or with "hit_lattice_step" 0 from the exact lookup (one is set).
   std::unique_ptr<TriangleSurfelLattice> lattice;

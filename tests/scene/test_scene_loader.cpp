@@ -97,7 +97,25 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
   expectError(withPointCloud("\"lvoxel_near_reach\": -1"),
               {"pointcloud.lvoxel_near_reach", "outside"});
   expectError(withPointCloud("\"gather_filter\": 0.5"), {"pointcloud.gather_filter", "outside"});
+  // "gather_samples": a count, or "auto" (the default: pointcloud_settings.h).
+  EXPECT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.gatherSamples, kAutoGatherSamples);
+  EXPECT_EQ(parseScene(withPointCloud("\"gather_samples\": \"auto\""), "/tmp/scene.json")
+                .pointcloud.gatherSamples,
+            kAutoGatherSamples);
+  EXPECT_EQ(parseScene(withPointCloud("\"gather_samples\": 96"), "/tmp/scene.json")
+                .pointcloud.gatherSamples,
+            96);
+  expectError(withPointCloud("\"gather_samples\": \"many\""),
+              {"pointcloud.gather_samples", "a count of rays or \"auto\"", "many"});
+  expectError(withPointCloud("\"gather_samples\": 0"), {"pointcloud.gather_samples", "outside"});
+  expectError(withPointCloud("\"gather_samples\": 2.5"), {"pointcloud.gather_samples", "integer"});
   EXPECT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.gatherLightSamples, 0);
+  // Under auto the light rays are a share of the 64 rays auto gives at least.
+  EXPECT_EQ(parseScene(withPointCloud("\"gather_light_samples\": 63"), "/tmp/scene.json")
+                .pointcloud.gatherLightSamples,
+            63);
+  expectError(withPointCloud("\"gather_light_samples\": 64"),
+              {"pointcloud.gather_light_samples", "the 64 rays that \"gather_samples\": \"auto\""});
   EXPECT_EQ(parseScene(withPointCloud("\"gather_samples\": 32, \"gather_light_samples\": 8"),
                        "/tmp/scene.json")
                 .pointcloud.gatherLightSamples,
