@@ -336,6 +336,34 @@ double differenceOf(const std::vector<double>& a, const std::vector<double>& b) 
   return sum / static_cast<double>(a.size());
 }
 
+// Seeds 1-4 of the lamp-lit room with two sets of "pointcloud" fields, a baseline and a
+// variant: their indirect layers, reports and means over the four seeds.
+struct LampLitRoomPairs {
+  std::vector<double> baseline[4], variant[4];
+  Report baselineReport[4], variantReport[4];
+  double baselineMean = 0.0, variantMean = 0.0;
+
+  LampLitRoomPairs(const std::string& baselineFields, const std::string& variantFields) {
+    for (int k = 0; k < 4; ++k) {
+      baseline[k] = lampLitRoomIndirect(k + 1, baselineFields, baselineReport[k]);
+      variant[k] = lampLitRoomIndirect(k + 1, variantFields, variantReport[k]);
+      baselineMean += meanOf(baseline[k]) / 4.0;
+      variantMean += meanOf(variant[k]) / 4.0;
+    }
+  }
+  // How much seeds 2 pair + 1 and 2 pair + 2 differ with the variant, over with the baseline.
+  double pairRatio(int pair) const {
+    const double ratio = differenceOf(variant[2 * pair], variant[2 * pair + 1]) /
+                         differenceOf(baseline[2 * pair], baseline[2 * pair + 1]);
+    std::printf(
+        "seeds %d and %d: the variant's indirect light differs by %.4f of its mean, %.2f "
+        "times the baseline's\n",
+        2 * pair + 1, 2 * pair + 2,
+        differenceOf(variant[2 * pair], variant[2 * pair + 1]) / baselineMean, ratio);
+    return ratio;
+  }
+};
+
 // A quarter of the final gathers' rays at the lit surfaces' cells
 // (pointcloud/gather_light_cells.h) must keep the lamp-lit room's indirect light and lose
 // noise. Seeds 1-4 build the same cloud either way and the gathers draw their own random
@@ -346,36 +374,20 @@ double differenceOf(const std::vector<double>& a, const std::vector<double>& b) 
 // bright. The two seeds of a pair must differ by less with the cells (measured 0.75 and
 // 0.85 of the cosine rays' difference, asserted below 0.9). All at 64 rays per gather.
 TEST(PointBasedRenderer, TheLitCellsKeepALampLitRoomAndCutItsNoise) {
-  std::vector<double> cosine[4], cells[4];
-  double meanDifference = 0.0, cosineMean = 0.0;
-  for (int seed = 1; seed <= 4; ++seed) {
-    Report a, b;
-    cosine[seed - 1] = lampLitRoomIndirect(seed, R"("gather_samples": 64)", a);
-    cells[seed - 1] =
-        lampLitRoomIndirect(seed, R"("gather_samples": 64, "gather_light_samples": 16)", b);
-    ASSERT_EQ(cosine[seed - 1].size(), 48u * 36u);
-    EXPECT_EQ(a.counts.count("gather_light_cells"), 0u);
-    EXPECT_GT(b.counts["gather_light_cells"], 1000u);
-    cosineMean += meanOf(cosine[seed - 1]) / 4.0;
-    meanDifference += (meanOf(cells[seed - 1]) - meanOf(cosine[seed - 1])) / 4.0;
+  const std::string cells = R"("gather_samples": 64, "gather_light_samples": 16)";
+  const LampLitRoomPairs room(R"("gather_samples": 64)", cells);
+  for (int k = 0; k < 4; ++k) {
+    ASSERT_EQ(room.baseline[k].size(), 48u * 36u);
+    EXPECT_EQ(room.baselineReport[k].counts.count("gather_light_cells"), 0u);
+    EXPECT_GT(room.variantReport[k].counts.at("gather_light_cells"), 1000u);
   }
   std::printf("lamp-lit room: indirect light %.5f (cosine rays), %+.3f %% with the cells\n",
-              cosineMean, 100.0 * meanDifference / cosineMean);
-  EXPECT_NEAR(meanDifference, 0.0, 0.016 * cosineMean);
-  for (int pair = 0; pair < 2; ++pair) {
-    const double ratio = differenceOf(cells[2 * pair], cells[2 * pair + 1]) /
-                         differenceOf(cosine[2 * pair], cosine[2 * pair + 1]);
-    std::printf(
-        "seeds %d and %d: indirect light differs by %.4f of its mean, %.2f times the "
-        "cosine rays'\n",
-        2 * pair + 1, 2 * pair + 2, differenceOf(cells[2 * pair], cells[2 * pair + 1]) / cosineMean,
-        ratio);
-    EXPECT_LT(ratio, 0.9) << pair;
-  }
+              room.baselineMean, 100.0 * (room.variantMean / room.baselineMean - 1.0));
+  EXPECT_NEAR(room.variantMean, room.baselineMean, 0.016 * room.baselineMean);
+  for (int pair = 0; pair < 2; ++pair) EXPECT_LT(room.pairRatio(pair), 0.9) << pair;
   // Deterministic: the same seed gives the same image.
   Report again;
-  EXPECT_EQ(lampLitRoomIndirect(1, R"("gather_samples": 64, "gather_light_samples": 16)", again),
-            cells[0]);
+  EXPECT_EQ(lampLitRoomIndirect(1, cells, again), room.variant[0]);
 }
 
 // "gather_samples": "auto" (the default) in the lamp-lit room. Its 48 x 36 image has 475 grid
@@ -384,40 +396,28 @@ TEST(PointBasedRenderer, TheLitCellsKeepALampLitRoomAndCutItsNoise) {
 // ceil(about 166,000 / 475) = 350-355 rays, rounded up to 352 or 368, where a fixed count
 // would give 64. The final gathers' share of the noise between seeds falls about
 // sqrt(64 / 360) = 0.42 times; the cloud's does not. Measured: the seeds' difference is 0.42
-// and 0.52 of 64 rays', asserted below 0.65. The means: over seeds 1-96 auto's is
+// and 0.51 of 64 rays', asserted below 0.65. The means: over seeds 1-96 auto's is
 // 0.32 +- 0.06 % below 64 rays' (a seed's own difference varies by 0.59 %, so four seeds'
 // mean by 0.3 %); asserted within 1 %.
 TEST(PointBasedRenderer, AutoFinalGatherRaysFollowTheCloudsRays) {
-  std::vector<double> fixed[4], automatic[4];
-  double fixedMean = 0.0, autoMean = 0.0;
-  for (int seed = 1; seed <= 4; ++seed) {
-    Report a, b;
-    fixed[seed - 1] = lampLitRoomIndirect(seed, R"("gather_samples": 64)", a);
-    automatic[seed - 1] = lampLitRoomIndirect(seed, "", b);
-    EXPECT_EQ(a.settings["final_gather_samples"], "64");
-    const uint64_t points = b.counts["grid_gathers"];
-    const uint64_t cloudRays = b.counts["cache_gather_rays"];
+  const LampLitRoomPairs room(R"("gather_samples": 64)", "");
+  for (int k = 0; k < 4; ++k) {
+    const Report& fixed = room.baselineReport[k];
+    const Report& automatic = room.variantReport[k];
+    EXPECT_EQ(fixed.settings.at("final_gather_samples"), "64");
+    const uint64_t points = automatic.counts.at("grid_gathers");
+    const uint64_t cloudRays = automatic.counts.at("cache_gather_rays");
     EXPECT_EQ(points, 475u);
     // Counted, not timed: the same for every seed and thread count.
-    PointCloudSettings settings;
-    EXPECT_EQ(b.settings["final_gather_samples"],
-              std::to_string(finalGatherSamples(settings, cloudRays, points)));
-    EXPECT_EQ(b.counts["grid_gather_rays"],
-              points * static_cast<uint64_t>(finalGatherSamples(settings, cloudRays, points)));
-    const std::string rays = b.settings["final_gather_samples"];
-    EXPECT_TRUE(rays == "352" || rays == "368") << rays << " from " << cloudRays;
-    fixedMean += meanOf(fixed[seed - 1]) / 4.0;
-    autoMean += meanOf(automatic[seed - 1]) / 4.0;
+    const int rays = finalGatherSamples(PointCloudSettings{}, cloudRays, points);
+    EXPECT_EQ(automatic.settings.at("final_gather_samples"), std::to_string(rays));
+    EXPECT_EQ(automatic.counts.at("grid_gather_rays"), points * static_cast<uint64_t>(rays));
+    EXPECT_TRUE(rays == 352 || rays == 368) << rays << " from " << cloudRays;
   }
-  std::printf("lamp-lit room: indirect light %.5f (64 rays), %.5f (auto)\n", fixedMean, autoMean);
-  EXPECT_NEAR(autoMean, fixedMean, 0.01 * fixedMean);
-  for (int pair = 0; pair < 2; ++pair) {
-    const double ratio = differenceOf(automatic[2 * pair], automatic[2 * pair + 1]) /
-                         differenceOf(fixed[2 * pair], fixed[2 * pair + 1]);
-    std::printf("seeds %d and %d: auto's difference is %.2f of 64 rays'\n", 2 * pair + 1,
-                2 * pair + 2, ratio);
-    EXPECT_LT(ratio, 0.65) << pair;
-  }
+  std::printf("lamp-lit room: indirect light %.5f (64 rays), %.5f (auto)\n", room.baselineMean,
+              room.variantMean);
+  EXPECT_NEAR(room.variantMean, room.baselineMean, 0.01 * room.baselineMean);
+  for (int pair = 0; pair < 2; ++pair) EXPECT_LT(room.pairRatio(pair), 0.65) << pair;
 }
 
 }  // namespace
