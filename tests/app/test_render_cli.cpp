@@ -520,5 +520,12 @@ TEST(Scenes, LampHallRendersWhenPresent) {
   expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/lamp_hall.json", "direct");
 }
 
+TEST(Scenes, SunlitGalleryRendersWhenPresent) {
+  for (const char* asset : {"bunny/bun_zipper.obj", "vdb/smoke.vdb"})
+    if (!fs::exists(std::string(LVOX_SHARED_DIR) + "/assets/" + asset))
+      GTEST_SKIP() << "shared asset absent: " << asset;
+  expectSceneRenders(std::string(LVOX_SOURCE_DIR) + "/scenes/sunlit_gallery.json", "direct");
+}
+
 }  // namespace
 }  // namespace lvox
