@@ -126,7 +126,8 @@ GatherOptions gatherOptions(const RenderContext& ctx, const PointBasedCache& cac
 }
 
 // The final gathers' options: `samples` rays, the cells' share of them as the settings'
-// share of gather_samples (a pixel's gathers split over its samples split both kinds).
+// share of gather_samples, or of 64 under auto (gatherLightSamplesBase; a pixel's gathers
+// split over its samples split both kinds).
 GatherOptions finalGatherOptions(const RenderContext& ctx, const PointBasedCache& cache,
                                  const PointCloudSettings& settings, float spacing, int samples) {
   GatherOptions o =
