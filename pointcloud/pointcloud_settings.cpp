@@ -126,8 +126,12 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
-  // A count (a JSON number) or "auto".
-  s.gatherSamples = p.has("gather_samples") && p.raw("gather_samples").is_number()
+  // A count (a JSON number) or "auto" (a string, or absent).
+  const nlohmann::json* given = p.has("gather_samples") ? &p.raw("gather_samples") : nullptr;
+  if (given && !given->is_number() && !given->is_string())
+    p.fail("gather_samples",
+           std::string("expected a count of rays or \"auto\", got ") + given->type_name());
+  s.gatherSamples = given && given->is_number()
                         ? p.integer("gather_samples", 1, 1 << 16, std::nullopt)
                         : p.choice("gather_samples", "auto", parseAutoGatherSamples);
   s.gatherLightSamples = p.integer("gather_light_samples", 0, 1 << 16, s.gatherLightSamples);

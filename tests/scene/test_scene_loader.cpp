@@ -107,6 +107,10 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
             96);
   expectError(withPointCloud("\"gather_samples\": \"many\""),
               {"pointcloud.gather_samples", "a count of rays or \"auto\"", "many"});
+  expectError(withPointCloud("\"gather_samples\": true"),
+              {"pointcloud.gather_samples", "a count of rays or \"auto\", got boolean"});
+  expectError(withPointCloud("\"gather_samples\": null"),
+              {"pointcloud.gather_samples", "a count of rays or \"auto\", got null"});
   expectError(withPointCloud("\"gather_samples\": 0"), {"pointcloud.gather_samples", "outside"});
   expectError(withPointCloud("\"gather_samples\": 2.5"), {"pointcloud.gather_samples", "integer"});
   EXPECT_EQ(parseScene(kMinimal, "/tmp/scene.json").pointcloud.gatherLightSamples, 0);
