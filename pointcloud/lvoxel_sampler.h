@@ -1,7 +1,8 @@
 #pragma once
 // Lvoxels from a medium (Gibson 2011, 4.1): march over the medium's active region on a
 // grid of the given spacing and average jittered samples of the coefficients over each
-// cell. The medium is any type with
+// cell; by default scale them to keep the medium's mean transmittance across the cell
+// (transmittanceFactor). The medium is any type with
 //   Bounds3 bounds() const;                          // where sigma can be non-zero
 //   const std::vector<Bounds3>& activeBoxes() const; // cells overlapping none are skipped
 //   void coefficients(const Vec3& p, RGB& sigmaA, RGB& sigmaS) const;  // 0 outside
@@ -12,6 +13,7 @@
 // and its lvoxels carry the emission source averaged over their cube.
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <concepts>
@@ -43,6 +45,9 @@ struct LvoxelSettings {
   int samplesPerAxis = 2;          // jittered samples per cell = samplesPerAxis^3 (2 -> 8)
   size_t maxLvoxels = 50'000'000;  // guards against a spacing far too small
   uint64_t seed = 1;
+  // Scale each cell's coefficients to keep the medium's mean transmittance across the
+  // cube (detail::transmittanceFactor); false: the cell's mean coefficients.
+  bool keepTransmittance = true;
   // Only the slices of cells k (along z) with k % sliceCount == sliceIndex: one rank's
   // share of the sampling (docs/cluster.md). Each cell's lvoxel depends on its cell alone,
   // so the shares merged in cell order are the whole set.
@@ -101,6 +106,58 @@ void averageCoefficients(const Medium& medium, const Vec3& lo, float spacing, in
   if (emission) *emission = sumE * inv;
 }
 
+// Each lvoxel is a homogeneous cube, and a cube of the cell's mean extinction lets less
+// light through than the medium it stands for wherever the medium varies inside the cell
+// (a cell its edge cuts, wisps): the mean of exp(-tau) over the lines across the cell is
+// at least exp of the mean tau (Jensen). That cube also absorbs, and glows with, more
+// than the medium does. With keepTransmittance the cube gets the extinction that keeps
+// the mean transmittance along its sides: m x m stratified lines across the cell along
+// each axis (m = samplesPerAxis), 4m jittered midpoints each, give optical depths tau_j,
+// and sigma' = -ln(mean exp(-tau_j)) / side. Returned as the factor per channel from the
+// cell's mean `sigmaT`, by which its sigma_a and sigma_s are scaled (its albedo kept);
+// 1 where every line has the same optical depth (a homogeneous cell keeps its mean
+// exactly) or the mean is 0 (docs/pcb.md, "Lvoxels that keep the cell's transmittance").
+template <class Medium>
+RGB transmittanceFactor(const Medium& medium, const Vec3& lo, float spacing, int m,
+                        const RGB& sigmaT, Rng& rng) {
+  const int steps = 4 * m;
+  const float dt = spacing / static_cast<float>(steps);
+  const float stratum = spacing / static_cast<float>(m);
+  std::array<double, 3> sumTr{};
+  std::array<float, 3> lowest{kInf, kInf, kInf}, highest{0.0f, 0.0f, 0.0f};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int line = 0; line < m * m; ++line) {
+      Vec3 p = lo;
+      p[u] += (static_cast<float>(line % m) + rng.uniform()) * stratum;
+      p[v] += (static_cast<float>(line / m) + rng.uniform()) * stratum;
+      const float offset = rng.uniform();
+      RGB tau(0.0f);
+      for (int k = 0; k < steps; ++k) {
+        p[axis] = lo[axis] + (static_cast<float>(k) + offset) * dt;
+        RGB a(0.0f), sc(0.0f);
+        medium.coefficients(p, a, sc);
+        tau += (sanitized(a) + sanitized(sc)) * dt;
+      }
+      for (int c = 0; c < 3; ++c) {
+        sumTr[c] += std::exp(-static_cast<double>(tau[c]));
+        lowest[c] = std::min(lowest[c], tau[c]);
+        highest[c] = std::max(highest[c], tau[c]);
+      }
+    }
+  }
+  const double lines = 3.0 * m * m;
+  RGB f(1.0f);
+  for (int c = 0; c < 3; ++c) {
+    if (!(sigmaT[c] > 0.0f) || !(highest[c] > lowest[c] * (1.0f + 1e-5f))) continue;
+    // An opaque cell (every line's exp underflowing) keeps its mean: it stops the light.
+    if (!(sumTr[c] > 0.0)) continue;
+    const double kept = -std::log(sumTr[c] / lines) / spacing;
+    f[c] = static_cast<float>(kept / sigmaT[c]);
+  }
+  return f;
+}
+
 template <class Medium>
 bool mediumEmits(const Medium& medium) {
   if constexpr (EmittingMediumSampler<Medium>)
@@ -154,6 +211,13 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
         detail::averageCoefficients(medium, lo, settings.spacing, m, rng, sigmaA, sigmaS,
                                     emits ? &emission : nullptr);
         if (isBlack(sigmaA + sigmaS)) continue;
+        if (settings.keepTransmittance) {
+          const RGB f =
+              detail::transmittanceFactor(medium, lo, settings.spacing, m, sigmaA + sigmaS, rng);
+          sigmaA *= f;
+          sigmaS *= f;
+          if (isBlack(sigmaA + sigmaS)) continue;  // no line met the medium
+        }
         if (emits) slice.lvoxels.emission.push_back(emission);
         slice.lvoxels.position.push_back(lo + Vec3(h, h, h));
         slice.lvoxels.halfSize.push_back(h);

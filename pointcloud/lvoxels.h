@@ -3,7 +3,9 @@
 // and cached in-scattered light. An lvoxel is the axis-aligned cube of side 2*halfSize
 // around its position: cubes of one grid tile space, so the optical depth summed over
 // the lvoxels a ray crosses equals the optical depth of the averaged medium (see
-// docs/pointcloud.md, "slab transmittance").
+// docs/pointcloud.md, "slab transmittance"). By default a cell the medium varies in gets
+// the extinction that keeps the medium's mean transmittance across it rather than its
+// mean extinction (lvoxel_sampler.h, transmittanceFactor).
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -17,6 +17,8 @@ constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUnifo
                                                       {SurfelSamplerKind::kCamera, "camera"}};
 constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"},
                                                   {LvoxelOwnCube::kQuadrature, "quadrature"}};
+constexpr Named<LvoxelExtinction> kExtinctionNames[] = {
+    {LvoxelExtinction::kMean, "mean"}, {LvoxelExtinction::kTransmittance, "transmittance"}};
 constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
                                             {BounceTail::kGeometric, "geometric"}};
 constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
@@ -55,6 +57,13 @@ LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
 }
 
 std::string_view lvoxelOwnCubeName(LvoxelOwnCube o) { return nameOf(o, kOwnCubeNames); }
+
+LvoxelExtinction parseLvoxelExtinction(std::string_view name, const std::string& file,
+                                       const std::string& field) {
+  return parseNamed(name, kExtinctionNames, "lvoxel extinction", file, field);
+}
+
+std::string_view lvoxelExtinctionName(LvoxelExtinction e) { return nameOf(e, kExtinctionNames); }
 
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field) {
@@ -100,6 +109,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.surfelSpacing = p.number("surfel_spacing", 0.0f, 1e9f, s.surfelSpacing);
   s.lvoxelSpacing = p.number("lvoxel_spacing", 0.0f, 1e9f, s.lvoxelSpacing);
   s.lvoxelSamples = p.integer("lvoxel_samples", 1, 8, s.lvoxelSamples);
+  s.lvoxelExtinction =
+      p.choice("lvoxel_extinction", std::string(lvoxelExtinctionName(s.lvoxelExtinction)),
+               parseLvoxelExtinction);
   s.lvoxelGatherSamples = p.integer("lvoxel_gather_samples", 1, 1 << 16, s.lvoxelGatherSamples);
   s.lvoxelNearSamples = p.integer("lvoxel_near_samples", 1, 1 << 16, s.lvoxelNearSamples);
   s.lvoxelNearReach = p.number("lvoxel_near_reach", 0.0f, 1e3f, s.lvoxelNearReach);
@@ -161,6 +173,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "surfel_sampler", surfelSamplerName(s.surfelSampler));
   l.add(p + "lvoxel_spacing", s.lvoxelSpacing);
   l.add(p + "lvoxel_samples", s.lvoxelSamples);
+  l.add(p + "lvoxel_extinction", lvoxelExtinctionName(s.lvoxelExtinction));
   l.add(p + "lvoxel_gather_samples", s.lvoxelGatherSamples);
   l.add(p + "lvoxel_near_samples", s.lvoxelNearSamples);
   l.add(p + "lvoxel_near_reach", s.lvoxelNearReach);

@@ -20,6 +20,10 @@ enum class SurfelSamplerKind { kUniform, kCamera };
 // 14 fixed directions exact for light of harmonic bands 0-2, where no surface cuts the
 // cube (own_cube.h; docs/pcb.md, "The own cube").
 enum class LvoxelOwnCube { kRays, kQuadrature };
+// The extinction each lvoxel's cube gets: its cell's mean, or the mean scaled so that the
+// cube lets through, along its sides, what the medium does on average (lvoxel_sampler.h;
+// docs/pcb.md, "Lvoxels that keep the cell's transmittance").
+enum class LvoxelExtinction { kMean, kTransmittance };
 // What the last interreflection pass adds: nothing, or the estimated rest of the bounce
 // series (light_cache.h, InterreflectionPasses).
 enum class BounceTail { kNone, kGeometric };
@@ -43,8 +47,9 @@ struct PointCloudSettings {
   float surfelSpacing = 0.0f;  // 0: derived from the total surface area
   int targetSurfels = 100000;  // used to derive the spacing when it is 0
   SurfelSamplerKind surfelSampler = SurfelSamplerKind::kUniform;
-  float lvoxelSpacing = 0.0f;    // 0: derived from the medium size
-  int lvoxelSamples = 2;         // jittered samples per axis averaged per lvoxel
+  float lvoxelSpacing = 0.0f;  // 0: derived from the medium size
+  int lvoxelSamples = 2;       // jittered samples per axis averaged per lvoxel
+  LvoxelExtinction lvoxelExtinction = LvoxelExtinction::kTransmittance;
   int lvoxelGatherSamples = 16;  // sphere rays per lvoxel and scattering pass
   // Rays that sample each lvoxel's near field (within lvoxelNearReach cube sides): the
   // lvoxelGatherSamples rays and short ones in their strata (docs/pcb.md, "The near field").
@@ -115,6 +120,9 @@ std::string_view surfelSamplerName(SurfelSamplerKind s);
 LvoxelOwnCube parseLvoxelOwnCube(std::string_view name, const std::string& file,
                                  const std::string& field);
 std::string_view lvoxelOwnCubeName(LvoxelOwnCube o);
+LvoxelExtinction parseLvoxelExtinction(std::string_view name, const std::string& file,
+                                       const std::string& field);
+std::string_view lvoxelExtinctionName(LvoxelExtinction e);
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field);
 std::string_view bounceTailName(BounceTail t);

@@ -367,9 +367,10 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     // Anisotropic media make directional lvoxels when the cloud carries multiple
     // scattering (pcb_media.h); with no bounces they hold the exact single scattering.
     const bool directional = settings.bounces > 0 && anisotropicLvoxels(volume.media());
-    lvoxels = sampleSceneLvoxels(
-        volume.media(), lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
-        settings.lvoxelSamples, seed, ctx.lights, directional, team, &sampled);
+    lvoxels = sampleSceneLvoxels(volume.media(),
+                                 lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
+                                 settings.lvoxelSamples, settings.lvoxelExtinction, seed,
+                                 ctx.lights, directional, team, &sampled);
     report.work["lvoxels_sampled"] += sampled;
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
     // cached, and camera rays keep the exact (and then trivial) single-scattering path.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pointcloud/lvoxels.h"
+#include "pointcloud/pointcloud_settings.h"
 #include "src/core/collective.h"
 #include "src/render/render_context.h"
 #include "src/render/volume_transport.h"
@@ -38,10 +39,12 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 // exchanged (cloud_exchange.h); every rank ends with the one-process set. `sampled`
 // receives the number of lvoxels this rank sampled. `directional`: the lvoxels scatter
 // with their media's phases (anisotropicLvoxels, and a cloud that carries multiple
-// scattering: without it the lvoxels hold the exact single scattering).
+// scattering: without it the lvoxels hold the exact single scattering). `extinction`:
+// the cubes' (pointcloud.lvoxel_extinction).
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             uint64_t seed, const LightSet& lights, bool directional,
-                             Collective& team = singleProcess(), size_t* sampled = nullptr);
+                             LvoxelExtinction extinction, uint64_t seed, const LightSet& lights,
+                             bool directional, Collective& team = singleProcess(),
+                             size_t* sampled = nullptr);
 
 // Fills every occupied cell with its direct light (see above). Over several ranks
 // (`team`), the cells go in blocks of kLvoxelDirectBlock, block b on rank b mod N, and the

@@ -170,6 +170,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                LvoxelLightBlend::kExponential, "linear", LvoxelLightBlend::kLinear, "cubic");
   expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kQuadrature,
                "rays", LvoxelOwnCube::kRays, "exact");
+  expectChoice("lvoxel_extinction", &PointCloudSettings::lvoxelExtinction,
+               LvoxelExtinction::kTransmittance, "mean", LvoxelExtinction::kMean, "median");
   expectChoice("bounce_tail", &PointCloudSettings::bounceTail, BounceTail::kGeometric, "none",
                BounceTail::kNone, "linear");
   expectChoice("gather_fit", &PointCloudSettings::gatherFit, GatherFit::kLinear, "constant",
