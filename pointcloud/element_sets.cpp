@@ -123,6 +123,14 @@ void LvoxelSet::append(const LvoxelSet& other) {
     else
       cat(phaseMoments, other.phaseMoments);
   }
+  // Cut flags: kept per lvoxel as soon as one set has them (0, not cut, for the other's).
+  if (!other.cut.empty() || !cut.empty()) {
+    cut.resize(size() - other.size(), 0);
+    if (other.cut.empty())
+      cut.resize(size(), 0);
+    else
+      cat(cut, other.cut);
+  }
   // Emission: kept per lvoxel as soon as one set has it (zeros for the other's).
   if (!other.emission.empty() || !emission.empty()) {
     emission.resize(size() - other.size(), RGB(0.0f));
@@ -141,6 +149,7 @@ void LvoxelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(sigmaS, order);
   if (!emission.empty()) permuteArray(emission, order);
   if (!phaseMoments.empty()) permuteArray(phaseMoments, order);
+  if (!cut.empty()) permuteArray(cut, order);
   permuteArray(slot, order);
 }
 

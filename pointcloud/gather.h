@@ -112,6 +112,10 @@ struct GatherRayWeights {
   RGB transmittance{1, 1, 1};
   bool opaqueHit = false;
   long own = -1;  // an lvoxel whose weights come from elsewhere: it attenuates, unrecorded
+  // With traced gathers: the ray, and the tracer that tells on which side of a surface
+  // that cuts an lvoxel's cube (LvoxelSet::cut) the ray crosses it.
+  const RayTracer* tracer = nullptr;
+  Vec3 origin{0, 0, 0}, direction{0, 0, 1};
 
   // The ray's weight at distance t.
   float scaleAt(float t) const { return t < near.end ? scale * near.share : scale; }
@@ -127,8 +131,20 @@ struct GatherRayWeights {
   }
   bool lvoxel(uint32_t i, float t0, float t1) {
     const RGB w = attenuate(cloud.lvoxels().sigmaT(i), t0, t1);
-    if (static_cast<long>(i) != own) sink.lvoxel(i, w);
+    if (static_cast<long>(i) != own && !acrossItsSurface(i, t0, t1)) sink.lvoxel(i, w);
     return maxComponent(transmittance) >= minTransmittance;
+  }
+  // Whether the chord [t0, t1] of a cut lvoxel lies on the other side of the surface from
+  // the cube's centre, where its light was found: that light is not the light there (a
+  // cube that a wall cuts would carry the light outside the wall into the room). The
+  // medium still attenuates the ray.
+  bool acrossItsSurface(uint32_t i, float t0, float t1) const {
+    const std::vector<uint8_t>& cut = cloud.lvoxels().cut;
+    if (!tracer || cut.empty() || !cut[i]) return false;
+    const Vec3 middle = origin + direction * (0.5f * (t0 + t1));
+    const Vec3 toCentre = cloud.lvoxels().position[i] - middle;
+    const float d = length(toCentre);
+    return d > 0.0f && tracer->occluded(Ray{middle, toCentre / d, 0.0f, 0.999f * d});
   }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {
     const RGB w = attenuate(cloud.lvoxelClusters()[n].sigmaT, t0, t1);
@@ -233,6 +249,9 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     traverse(cloud, ray, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
   } else {
+    weights.tracer = options.tracer;
+    weights.origin = ray.origin;
+    weights.direction = ray.dir;
     // The receiver sits on a real surface: a few epsilons keep it from hitting itself.
     Ray traced = ray;
     traced.tmin = 4.0f * options.tracer->epsilon();

@@ -31,6 +31,11 @@ struct LvoxelSet {
   // (delta-M: that peak is folded into sigma_s, which the renderer has reduced by it;
   // docs/pcb.md). They scale bands 1 and 2 of the light the lvoxel scatters.
   std::vector<std::array<float, kShBands - 1>> phaseMoments;
+  // With ray-traced gathers: 1 where a surface cuts the lvoxel's cube (surfaceCutsCube,
+  // own_cube.h), else 0; empty when not marked. Such an lvoxel's light is its centre's, on
+  // one side of the surface, and a gather ray that crosses its cube on the other side does
+  // not see it glow (docs/pcb.md, "Cubes that a surface cuts").
+  std::vector<uint8_t> cut;
   // The light on the lvoxels' cells: in-scattered radiance L_s = integral of phase * L_i
   // over the sphere, W/(m^2 sr); the lvoxel's volume source is sigma_s * L_s.
   LvoxelLight light;

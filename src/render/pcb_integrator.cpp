@@ -386,6 +386,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         settings.clusterSolidAngle > 0.0f && settings.gatherVisibility == GatherVisibility::kCloud;
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
     if (settings.gatherVisibility == GatherVisibility::kRays) {
+      if (cache.lvoxels) report.add("lvoxels_cut", markCutLvoxels(ctx.tracer, *cache.cloud));
       buildHitSurfels(ctx, settings, spacing, sceneFile, cache);
       if (!ctx.lights.lights().empty())
         cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);

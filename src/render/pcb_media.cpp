@@ -8,6 +8,7 @@
 #include <string>
 
 #include "pointcloud/lvoxel_sampler.h"
+#include "pointcloud/own_cube.h"
 #include "src/core/error.h"
 #include "src/core/progress.h"
 #include "src/core/spherical_harmonics.h"
@@ -195,6 +196,15 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   for (size_t slot = 0; slot < light.occupiedCount(); slot += kLvoxelDirectBlock)
     if (mine(slot)) lit += std::min(kLvoxelDirectBlock, light.occupiedCount() - slot);
   return lit;
+}
+
+size_t markCutLvoxels(const RayTracer& tracer, PointCloud& cloud) {
+  LvoxelSet& lvoxels = cloud.mutableLvoxels();
+  lvoxels.cut.assign(lvoxels.size(), 0);
+  tbb::parallel_for(size_t(0), lvoxels.size(), [&](size_t i) {
+    lvoxels.cut[i] = surfaceCutsCube(tracer, lvoxels.position[i], lvoxels.halfSize[i]) ? 1 : 0;
+  });
+  return static_cast<size_t>(std::count(lvoxels.cut.begin(), lvoxels.cut.end(), uint8_t{1}));
 }
 
 void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot, RGB* out) {

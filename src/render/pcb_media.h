@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pointcloud/lvoxels.h"
+#include "pointcloud/point_cloud.h"
 #include "pointcloud/pointcloud_settings.h"
 #include "src/core/collective.h"
 #include "src/render/render_context.h"
@@ -54,6 +55,10 @@ inline constexpr size_t kLvoxelDirectBlock = 64;
 size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
                               LvoxelLight& light, rte::SolveCounts& counts,
                               Collective& team = singleProcess());
+
+// Marks the lvoxels whose cube a surface cuts (LvoxelSet::cut; surfaceCutsCube, its 8
+// corners seen from its centre) for ray-traced gathers. Returns how many.
+size_t markCutLvoxels(const RayTracer& tracer, PointCloud& cloud);
 
 // The direct light at a cell as the point cloud sees it, light.coefficients() values into
 // `out` (spherical_harmonics.h): the area lights' coefficients plus, per delta light,
