@@ -26,6 +26,7 @@
 #include "pointcloud/lvoxel_grid.h"
 #include "src/core/check.h"
 #include "src/core/collective.h"
+#include "src/geometry/ray_tracer.h"
 
 namespace lvox {
 
@@ -126,7 +127,15 @@ class LvoxelLight {
   // occupied ones only (weights renormalised, so the light does not fade towards zero at
   // the edge of the medium), the camera channels as blend() says. False (and zeros) when
   // no occupied centre is within one cell of p.
-  bool interpolate(const Vec3& p, LvoxelLightSample& out) const;
+  // With `tracer`, a corner marked near a surface (markNearSurface) whose centre a surface
+  // hides from p is left out too: its light is from the other side of a wall.
+  bool interpolate(const Vec3& p, LvoxelLightSample& out, const RayTracer* tracer = nullptr) const;
+  // Marks a cell with a surface within one cell spacing of its centre (per axis): a point
+  // its light blends into may lie across that surface.
+  void markNearSurface(uint32_t slot) {
+    nearSurface_.resize(cell_.size(), 0);
+    nearSurface_[slot] = 1;
+  }
 
   size_t memoryBytes() const;
 
@@ -160,6 +169,7 @@ class LvoxelLight {
   int coefficients_ = 1;
   size_t coefficientStride() const { return static_cast<size_t>(coefficients_); }
   std::vector<RGB> area_, direct_, multi_;  // slot-major, coefficients_ per slot
+  std::vector<uint8_t> nearSurface_;        // per slot (empty: none marked)
 };
 
 }  // namespace lvox

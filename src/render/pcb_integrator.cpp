@@ -386,7 +386,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         settings.clusterSolidAngle > 0.0f && settings.gatherVisibility == GatherVisibility::kCloud;
     cache.cloud = std::make_unique<PointCloud>(std::move(surfels), std::move(lvoxels), octree);
     if (settings.gatherVisibility == GatherVisibility::kRays) {
-      if (cache.lvoxels) report.add("lvoxels_cut", markCutLvoxels(ctx.tracer, *cache.cloud));
+      if (cache.lvoxels) {
+        const CutLvoxels cut = markCutLvoxels(ctx.tracer, *cache.cloud);
+        report.add("lvoxels_cut", cut.lvoxels);
+        report.add("lvoxel_cells_near_surfaces", cut.cells);
+      }
       buildHitSurfels(ctx, settings, spacing, sceneFile, cache);
       if (!ctx.lights.lights().empty())
         cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
@@ -536,7 +540,10 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     CameraRayParts* const partsOut = layers ? &parts : nullptr;
     RGB l;
     if (cache.lvoxels) {
-      const PointCloudScatter scatter{cache.cloud->lvoxels().light, ctx.lights, volume.media()};
+      // Traced gathers mark the cells near surfaces; camera rays then leave out the light
+      // of cells across a surface.
+      const PointCloudScatter scatter{cache.cloud->lvoxels().light, ctx.lights, volume.media(),
+                                      &ctx.tracer};
       l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts, partsOut);
     } else {
       l = volume.radiance(ray, tEnd, behind, rng, solveCounts, partsOut);

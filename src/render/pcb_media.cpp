@@ -198,13 +198,26 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
   return lit;
 }
 
-size_t markCutLvoxels(const RayTracer& tracer, PointCloud& cloud) {
+CutLvoxels markCutLvoxels(const RayTracer& tracer, PointCloud& cloud) {
   LvoxelSet& lvoxels = cloud.mutableLvoxels();
   lvoxels.cut.assign(lvoxels.size(), 0);
   tbb::parallel_for(size_t(0), lvoxels.size(), [&](size_t i) {
     lvoxels.cut[i] = surfaceCutsCube(tracer, lvoxels.position[i], lvoxels.halfSize[i]) ? 1 : 0;
   });
-  return static_cast<size_t>(std::count(lvoxels.cut.begin(), lvoxels.cut.end(), uint8_t{1}));
+  LvoxelLight& light = lvoxels.light;
+  std::vector<uint8_t> near(light.occupiedCount(), 0);
+  tbb::parallel_for(size_t(0), near.size(), [&](size_t s) {
+    near[s] = surfaceCutsCube(tracer, light.centre(static_cast<uint32_t>(s)), light.grid().spacing);
+  });
+  CutLvoxels counts;
+  for (size_t s = 0; s < near.size(); ++s)
+    if (near[s]) {
+      light.markNearSurface(static_cast<uint32_t>(s));
+      ++counts.cells;
+    }
+  counts.lvoxels =
+      static_cast<size_t>(std::count(lvoxels.cut.begin(), lvoxels.cut.end(), uint8_t{1}));
+  return counts;
 }
 
 void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot, RGB* out) {
@@ -224,7 +237,7 @@ void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot,
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
                                   const MediumCoefficients* perMedium) const {
   thread_local LvoxelLightSample cached;
-  if (!light.interpolate(x, cached)) return RGB(0.0f);
+  if (!light.interpolate(x, cached, tracer)) return RGB(0.0f);
   const int count = light.coefficients();
   float yhat[kShCoefficients];
   shBasis(viewDir, count, yhat);  // light leaving towards the camera came from behind x

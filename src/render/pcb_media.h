@@ -56,9 +56,14 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
                               LvoxelLight& light, rte::SolveCounts& counts,
                               Collective& team = singleProcess());
 
-// Marks the lvoxels whose cube a surface cuts (LvoxelSet::cut; surfaceCutsCube, its 8
-// corners seen from its centre) for ray-traced gathers. Returns how many.
-size_t markCutLvoxels(const RayTracer& tracer, PointCloud& cloud);
+// For ray-traced gathers and camera rays: marks the lvoxels whose cube a surface cuts
+// (LvoxelSet::cut; surfaceCutsCube, its 8 corners seen from its centre) and the light's
+// cells with a surface within one spacing of their centre (LvoxelLight::markNearSurface;
+// the same test on the cube twice as large). Returns how many of each.
+struct CutLvoxels {
+  size_t lvoxels = 0, cells = 0;
+};
+CutLvoxels markCutLvoxels(const RayTracer& tracer, PointCloud& cloud);
 
 // The direct light at a cell as the point cloud sees it, light.coefficients() values into
 // `out` (spherical_harmonics.h): the area lights' coefficients plus, per delta light,
@@ -73,6 +78,8 @@ struct PointCloudScatter {
   const LvoxelLight& light;
   const LightSet& lights;
   const MediaSet& media;
+  // The light of cells across a surface from x is left out (LvoxelLight::interpolate).
+  const RayTracer* tracer = nullptr;
   RGB operator()(const Vec3& x, const Vec3& viewDir, const MediumCoefficients* perMedium) const;
 };
 
