@@ -70,7 +70,7 @@ struct LvoxelSet {
   }
   size_t memoryBytes() const {
     return size() * bytesPerElement() + emission.size() * sizeof(RGB) +
-           phaseMoments.size() * sizeof(phaseMoments[0]);
+           phaseMoments.size() * sizeof(phaseMoments[0]) + cut.size() * sizeof(cut[0]);
   }
   void permute(const std::vector<uint32_t>& order);
 };
