@@ -141,10 +141,7 @@ struct GatherRayWeights {
   bool acrossItsSurface(uint32_t i, float t0, float t1) const {
     const std::vector<uint8_t>& cut = cloud.lvoxels().cut;
     if (!tracer || cut.empty() || !cut[i]) return false;
-    const Vec3 middle = origin + direction * (0.5f * (t0 + t1));
-    const Vec3 toCentre = cloud.lvoxels().position[i] - middle;
-    const float d = length(toCentre);
-    return d > 0.0f && tracer->occluded(Ray{middle, toCentre / d, 0.0f, 0.999f * d});
+    return tracer->blocked(origin + direction * (0.5f * (t0 + t1)), cloud.lvoxels().position[i]);
   }
   bool lvoxelCluster(uint32_t n, float t0, float t1) {
     const RGB w = attenuate(cloud.lvoxelClusters()[n].sigmaT, t0, t1);
@@ -459,8 +456,7 @@ void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo,
   long own = -1;
   if constexpr (std::is_same_v<Phase, IsotropicPhase>)
     if (options.ownLvoxel >= 0 && options.tracer &&
-        !surfaceCutsCube(*options.tracer, p,
-                         cloud.lvoxels().halfSize[static_cast<size_t>(options.ownLvoxel)]))
+        !ownCubeCut(cloud.lvoxels(), static_cast<size_t>(options.ownLvoxel), p, *options.tracer))
       own = options.ownLvoxel;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {

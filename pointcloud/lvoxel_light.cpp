@@ -74,17 +74,6 @@ void LvoxelLight::finishCameraChannels() {
   std::vector<RGB>().swap(clear_);
 }
 
-namespace {
-
-// Whether a surface lies between p and a cell's centre.
-bool hiddenFrom(const RayTracer& tracer, const Vec3& p, const Vec3& centre) {
-  const Vec3 d = centre - p;
-  const float reach = length(d);
-  return reach > 0.0f && tracer.occluded(Ray{p, d / reach, 0.0f, 0.999f * reach});
-}
-
-}  // namespace
-
 bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out,
                               const RayTracer* tracer) const {
   out.transmittance.assign(deltaLights_, RGB(0.0f));
@@ -117,7 +106,7 @@ bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out,
     const int32_t s = slotOfCell_[grid_.index(c[0], c[1], c[2])];
     if (s < 0) continue;
     if (tracer && !nearSurface_.empty() && nearSurface_[static_cast<size_t>(s)] &&
-        hiddenFrom(*tracer, p, centre_[static_cast<size_t>(s)]))
+        tracer->blocked(p, centre_[static_cast<size_t>(s)]))
       continue;
     slots[corners] = static_cast<size_t>(s);
     weights[corners++] = w;

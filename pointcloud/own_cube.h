@@ -35,10 +35,16 @@ namespace lvox {
 inline bool surfaceCutsCube(const RayTracer& tracer, const Vec3& c, float h) {
   for (int k = 0; k < 8; ++k) {
     const Vec3 corner(k & 1 ? h : -h, k & 2 ? h : -h, k & 4 ? h : -h);
-    const float reach = length(corner);
-    if (tracer.occluded(Ray{c, corner / reach, 0.0f, 0.999f * reach})) return true;
+    if (tracer.blocked(c, c + corner)) return true;
   }
   return false;
+}
+
+// Whether a surface cuts lvoxel i's cube, for a gather at p: the mark the renderer made
+// (LvoxelSet::cut, the same test) when the gather is at the cube's centre, else the test.
+inline bool ownCubeCut(const LvoxelSet& lvoxels, size_t i, const Vec3& p, const RayTracer& tracer) {
+  if (!lvoxels.cut.empty() && p == lvoxels.position[i]) return lvoxels.cut[i] != 0;
+  return surfaceCutsCube(tracer, p, lvoxels.halfSize[i]);
 }
 
 // The weights of the own cube's 14 directions: `axis` on each of the 6 axes, `corner` on

@@ -31,6 +31,13 @@ class RayTracer {
   bool intersect(const Ray& ray, SurfaceHit& hit) const;
   // True if anything blocks the segment origin + t dir, t in (tmin, tmax).
   bool occluded(const Ray& ray) const;
+  // True if a surface lies between `from` and `to` (the last 0.1 % of the way left out,
+  // so a surface through `to` does not count).
+  bool blocked(const Vec3& from, const Vec3& to) const {
+    const Vec3 d = to - from;
+    const float reach = length(d);
+    return reach > 0.0f && occluded(Ray{from, d / reach, 0.0f, 0.999f * reach});
+  }
   // Offset that keeps secondary rays off the surface they start on (scales with the scene).
   float epsilon() const { return epsilon_; }
   const TriangleMesh& mesh() const { return mesh_; }
