@@ -18,9 +18,24 @@ Vec3 EnvironmentCache::latticeDirection(int j, int n) {
 }
 
 EnvironmentCache::EnvironmentCache(const RGB& radiance, const Bounds3& bounds, int resolution,
-                                   int directions, const Transmittance& transmittance)
-    : grid_(bounds, resolution) {
+                                   int directions, const Transmittance& transmittance,
+                                   const RayTracer* surfaces)
+    : grid_(bounds, resolution), surfaces_(surfaces) {
   if (grid_.nodes() == 0 || directions < 1) return;
+  if (surfaces_) {
+    nearSurface_.assign(grid_.nodes(), 0);
+    // The segments from the corners of the box of the node's neighbours (a little larger:
+    // a wall on its face counts) to a little past the node, so that a surface through the
+    // node, from which the node's own rays would start, counts too.
+    const Vec3 h = grid_.spacing() * 1.01f;
+    tbb::parallel_for(size_t(0), grid_.nodes(), [&](size_t i) {
+      const Vec3 p = grid_.position(i);
+      for (int k = 0; k < 8 && !nearSurface_[i]; ++k) {
+        const Vec3 corner(k & 1 ? h.x : -h.x, k & 2 ? h.y : -h.y, k & 4 ? h.z : -h.z);
+        nearSurface_[i] = surfaces_->blocked(p + corner, p - corner * 0.01f) ? 1 : 0;
+      }
+    });
+  }
   std::vector<Vec3> lattice;
   std::vector<float> basis;  // kShCoefficients per direction
   for (int j = 0; j < directions; ++j) {
@@ -49,6 +64,16 @@ EnvironmentCache::EnvironmentCache(const RGB& radiance, const Bounds3& bounds, i
   });
 }
 
+bool EnvironmentCache::hidden(const Vec3& x, const Vec3& node) const {
+  // A node on a surface (a grid plane along a wall; within rounding of it) took its light
+  // from whichever side its rays left by, the wrong one as often as not: it counts as
+  // hidden from both, so the segment runs a little past it.
+  const Vec3 d = node - x;
+  const float reach = length(d);
+  const float past = std::max(1e-3f * reach, 2.0f * surfaces_->epsilon());
+  return reach > 0.0f && surfaces_->occluded(Ray{x, d / reach, 0.0f, reach + past});
+}
+
 void EnvironmentCache::lookup(const Vec3& x, RGB* out) const {
   // Per channel: the mean in its logarithm, the other coefficients as fractions of their
   // node's mean. A node no direction of which reaches the sky (inside a surface: a cloud's
@@ -56,6 +81,7 @@ void EnvironmentCache::lookup(const Vec3& x, RGB* out) const {
   std::fill(out, out + kShCoefficients, RGB(0.0f));
   RGB logMean(0.0f), weights(0.0f);
   grid_.forEachCorner(x, [&](size_t node, float w) {
+    if (surfaces_ && nearSurface_[node] && hidden(x, grid_.position(node))) return;
     const RGB* c = &coefficients_[node * kShCoefficients];
     for (int ch = 0; ch < 3; ++ch) {
       if (!(c[0][ch] > 0.0f)) continue;
@@ -69,6 +95,10 @@ void EnvironmentCache::lookup(const Vec3& x, RGB* out) const {
     out[0][ch] = std::exp(logMean[ch] / weights[ch]);
     for (int k = 1; k < kShCoefficients; ++k) out[k][ch] *= out[0][ch] / weights[ch];
   }
+}
+
+size_t EnvironmentCache::nodesNearSurfaces() const {
+  return static_cast<size_t>(std::count(nearSurface_.begin(), nearSurface_.end(), uint8_t{1}));
 }
 
 }  // namespace lvox

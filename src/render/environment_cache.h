@@ -16,11 +16,18 @@
 // bands, surfaces' shadows interpolated across a cell) against exact shadow rays:
 // docs/results.md, "Shadow transmittance cache". Environment maps are not cached (a sun in
 // the map would fall between the directions): their samples keep their shadow rays.
+//
+// A surface between a point and a node (a wall or ceiling that the media pass through)
+// leaves that node out as well: its light is the other side's. Nodes with a surface within
+// one cell are marked when the cache is built (the segments to the corners of the box of
+// their neighbours), and a lookup tests only those.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
 #include "src/core/math.h"
 #include "src/core/spherical_harmonics.h"
+#include "src/geometry/ray_tracer.h"
 #include "src/render/node_grid.h"
 
 namespace lvox {
@@ -32,23 +39,30 @@ class EnvironmentCache {
   using Transmittance = std::function<RGB(const Ray&)>;
 
   // Grids over `bounds` with `resolution` cells along its longest side (cubic cells), each
-  // node projecting `radiance` x T over `directions` directions.
+  // node projecting `radiance` x T over `directions` directions. With `surfaces`, lookups
+  // leave out nodes that a surface hides (see above); it must outlive the cache.
   EnvironmentCache(const RGB& radiance, const Bounds3& bounds, int resolution, int directions,
-                   const Transmittance& transmittance);
+                   const Transmittance& transmittance, const RayTracer* surfaces = nullptr);
 
   bool covers(const Vec3& x) const { return grid_.contains(x); }
   // The harmonics of the light arriving at x: c_k = (1 / 4 pi) integral L T Yhat_k dw
   // (kShCoefficients of them).
   void lookup(const Vec3& x, RGB* coefficients) const;
   size_t nodes() const { return grid_.nodes(); }
-  size_t memoryBytes() const { return coefficients_.size() * sizeof(RGB); }
+  size_t memoryBytes() const { return coefficients_.size() * sizeof(RGB) + nearSurface_.size(); }
+  // Nodes with a surface within one cell (0 without `surfaces`).
+  size_t nodesNearSurfaces() const;
 
   // Direction j of n on the spherical Fibonacci lattice (equal areas of 4 pi / n).
   static Vec3 latticeDirection(int j, int n);
 
  private:
+  // Whether a surface lies between x and a node, or through the node.
+  bool hidden(const Vec3& x, const Vec3& node) const;
   NodeGrid grid_;
   std::vector<RGB> coefficients_;  // kShCoefficients per node
+  const RayTracer* surfaces_ = nullptr;
+  std::vector<uint8_t> nearSurface_;  // per node, with `surfaces`
 };
 
 }  // namespace lvox

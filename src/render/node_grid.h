@@ -26,6 +26,7 @@ class NodeGrid {
   const Bounds3& bounds() const { return bounds_; }
   bool contains(const Vec3& x) const { return bounds_.contains(x); }
   size_t nodes() const { return static_cast<size_t>(n_[0]) * n_[1] * n_[2]; }
+  const Vec3& spacing() const { return cell_; }  // between neighbouring nodes, per axis
 
   // Where node i is (x fastest, then y, then z).
   Vec3 position(size_t i) const {

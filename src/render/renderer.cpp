@@ -116,7 +116,8 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
       media.anyHeterogeneous()) {
     PhaseTimer timer(report, "environment_cache");
     const uint64_t side = static_cast<uint64_t>(job.volume.environmentCache) + 2;
-    budget.reserve(side * side * side * sizeof(RGB) * kShCoefficients, job.sceneFile,
+    // The harmonics and a near-surface mark per node.
+    budget.reserve(side * side * side * (sizeof(RGB) * kShCoefficients + 1), job.sceneFile,
                    "volume_integrator.environment_cache", "the environment's light cache");
     const uint64_t cameraRays =
         static_cast<uint64_t>(world.camera.width) * world.camera.height * plan.spp;
@@ -125,8 +126,11 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
     report.add("environment_cache_medium_evals", cacheEvals);
     work.charge(cacheEvals, "the environment's light cache");
     work.throwIfExhausted();
-    if (volume.environmentCache())
+    if (volume.environmentCache()) {
       report.memory["environment_cache"] = volume.environmentCache()->memoryBytes();
+      report.add("environment_cache_nodes_near_surfaces",
+                 volume.environmentCache()->nodesNearSurfaces());
+    }
   }
   const RenderContext neeCtx{world, settings, *tracer, singleSampleLights, &budget};
   const MajorantTracker tracker(media, job.volume.majorant == MajorantKind::kGrid);

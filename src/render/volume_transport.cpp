@@ -129,13 +129,15 @@ uint64_t VolumeTransport::buildEnvironmentCache(int resolution, int directions,
   if (shadowRays == 0 || cameraRays * 16 < shadowRays) return 0;
   std::atomic<uint64_t> evaluations{0};
   environmentCache_ = std::make_unique<const EnvironmentCache>(
-      mediumLights_.environment(), bounds, resolution, directions, [&](const Ray& ray) {
+      mediumLights_.environment(), bounds, resolution, directions,
+      [&](const Ray& ray) {
         if (ctx_.tracer.occluded(ray)) return RGB(0.0f);
         rte::SolveCounts counts;
         const RGB t = transmittance(ray, counts);
         evaluations += counts.mediumEvals;
         return t;
-      });
+      },
+      &ctx_.tracer);
   return evaluations.load();
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "src/render/environment_cache.h"
@@ -126,6 +127,44 @@ TEST(EnvironmentCache, DirectModeConvergesToExactShadowRays) {
   // harmonics taken at -viewDir (the wrong side of the phase function) +8.4 %.
   EXPECT_LT(std::abs(error[0]), 0.006);
   EXPECT_LT(std::abs(error[1]), 0.004);
+}
+
+// A closed room (2 x 2 x 2) under the sky, with a cloud that its ceiling cuts in half: the
+// nodes above the ceiling see the sky, those in the room see none, and no light can enter.
+// The fog under the ceiling, seen from inside, must be black. Blending the nodes above the
+// ceiling into it lit it (the sunlit gallery's smoke, which its walls and ceiling cut, came
+// out 2 % too bright in direct mode for that, docs/results.md, stop 49).
+TEST(EnvironmentCache, NoSkyLeaksThroughACeilingThatCutsTheCloud) {
+  std::string walls;
+  const char* quads[] = {"[[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]]",
+                         "[[-1, 2, -1], [1, 2, -1], [1, 2, 1], [-1, 2, 1]]",
+                         "[[-1, 0, -1], [-1, 2, -1], [-1, 2, 1], [-1, 0, 1]]",
+                         "[[1, 0, -1], [1, 2, -1], [1, 2, 1], [1, 0, 1]]",
+                         "[[-1, 0, -1], [1, 0, -1], [1, 2, -1], [-1, 2, -1]]",
+                         "[[-1, 0, 1], [1, 0, 1], [1, 2, 1], [-1, 2, 1]]"};
+  for (const char* q : quads)
+    walls += std::string(walls.empty() ? "" : ", ") +
+             R"({"type": "quad", "material": "white", "corners": )" + q + "}";
+  const std::string text = R"({
+    "camera": {"position": [0, 0.8, -0.9], "look_at": [0, 2, 0.3], "vfov_deg": 60, "width": 16, "height": 16},
+    "render": {"mode": "direct", "spp": 8, "seed": 1},
+    "materials": {"white": {"albedo": 0.8}},
+    "shapes": [)" + walls + R"(],
+    "lights": [{"type": "environment", "radiance": [0.4, 0.6, 1.0]}],
+    "media": [{"type": "procedural", "kind": "gaussian_blob", "center": [0, 2, 0], "radius": 0.6,
+               "min": [-0.9, 1.4, -0.9], "max": [0.9, 2.6, 0.9], "sigma_a": 0.3, "sigma_s": 5}],
+    "volume_integrator": {"environment_cache": 8, "environment_cache_directions": 32}})";
+  Report report;
+  const Image image = renderScene(parseScene(text, "/tmp/sky-leak-test.json").job(), report);
+  ASSERT_GT(report.counts["environment_cache_medium_evals"], 0u);
+  EXPECT_GT(report.counts["environment_cache_nodes_near_surfaces"], 0u);
+  const double mean = meanOf(image);
+  std::printf("the closed room's fog under the ceiling: %.3g (sum of colours)\n", mean);
+  // Measured 1.1e-4; exact shadow rays (no cache) give 5.3e-5 (rays that slip between
+  // the quads at the room's edges). Blending the nodes above the ceiling gave 1.27e-3,
+  // and 1.27e-3 still while the nodes on the ceiling's plane went unmarked (their own
+  // rays start on it and pass it).
+  EXPECT_LT(mean, 4e-4);
 }
 
 }  // namespace
