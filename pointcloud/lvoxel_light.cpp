@@ -77,6 +77,7 @@ void LvoxelLight::finishCameraChannels() {
 bool LvoxelLight::interpolate(const Vec3& p, LvoxelLightSample& out,
                               const RayTracer* tracer) const {
   out.transmittance.assign(deltaLights_, RGB(0.0f));
+  out.visibility.assign(deltaLights_, RGB(0.0f));
   out.multiScatter.assign(coefficientStride(), RGB(0.0f));
   out.towardsCamera.assign(phases_, RGB(0.0f));
   if (slotOfCell_.empty()) return false;
@@ -136,6 +137,22 @@ RGB attenuation(const RGB& depth, float weight) {
 
 }  // namespace
 
+RGB LvoxelLight::blendedVisibility(const size_t* slots, const float* weights, int corners,
+                                   float inv, size_t k) const {
+  // Without the clear channels (a light whose camera channels were set by hand) every
+  // corner counts as seeing the light.
+  if (blendable_.empty()) return RGB(1.0f);
+  RGB clear(0.0f);
+  for (int i = 0; i < corners; ++i)
+    clear += blendable_[slots[i] * cameraStride() + k].clear * weights[i];
+  // Rounding must not make a light that every corner sees look partly hidden.
+  for (int c = 0; c < 3; ++c) {
+    const float v = clear[c] * inv;
+    clear[c] = v >= 1.0f - 1e-5f ? 1.0f : v;
+  }
+  return clear;
+}
+
 void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights, int corners,
                                       float weightSum, LvoxelLightSample& out) const {
   const float inv = 1.0f / weightSum;
@@ -165,9 +182,10 @@ void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights,
   };
   for (size_t k = 0; k < cameraStride(); ++k) {
     const RGB value = blend_ == LvoxelLightBlend::kLinear ? linear(k) : exponential(k);
-    if (k < deltaLights_)
+    if (k < deltaLights_) {
       out.transmittance[k] = value;
-    else
+      out.visibility[k] = blendedVisibility(slots, weights, corners, inv, k);
+    } else
       out.towardsCamera[k - deltaLights_] = value;
   }
 }

@@ -44,6 +44,7 @@ enum class LvoxelLightBlend { kLinear, kExponential };
 // The light blended at a point between cell centres (LvoxelLight::interpolate).
 struct LvoxelLightSample {
   std::vector<RGB> transmittance;  // one per delta light
+  std::vector<RGB> visibility;     // its part without the media (the clear light's blend)
   std::vector<RGB> multiScatter;   // the interreflection's coefficients (coefficients())
   std::vector<RGB> towardsCamera;  // area lights and environment, one per phase
 };
@@ -166,6 +167,10 @@ class LvoxelLight {
   // The camera channels at the occupied corners (slots, weights summing to weightSum).
   void blendCameraChannels(const size_t* slots, const float* weights, int corners, float weightSum,
                            LvoxelLightSample& out) const;
+  // Delta light k's visibility (its clear channel) blended over the corners (1 / their
+  // weights' sum: inv); exactly 1 where every corner sees it, 0 where none does.
+  RGB blendedVisibility(const size_t* slots, const float* weights, int corners, float inv,
+                        size_t k) const;
   int coefficients_ = 1;
   size_t coefficientStride() const { return static_cast<size_t>(coefficients_); }
   std::vector<RGB> area_, direct_, multi_;  // slot-major, coefficients_ per slot

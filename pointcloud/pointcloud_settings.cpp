@@ -19,6 +19,9 @@ constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"}
                                                   {LvoxelOwnCube::kQuadrature, "quadrature"}};
 constexpr Named<LvoxelExtinction> kExtinctionNames[] = {
     {LvoxelExtinction::kMean, "mean"}, {LvoxelExtinction::kTransmittance, "transmittance"}};
+constexpr Named<CameraShadowRays> kCameraShadowRaysNames[] = {{CameraShadowRays::kEdges, "edges"},
+                                                              {CameraShadowRays::kAll, "all"},
+                                                              {CameraShadowRays::kNone, "none"}};
 constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
                                             {BounceTail::kGeometric, "geometric"}};
 constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
@@ -64,6 +67,15 @@ LvoxelExtinction parseLvoxelExtinction(std::string_view name, const std::string&
 }
 
 std::string_view lvoxelExtinctionName(LvoxelExtinction e) { return nameOf(e, kExtinctionNames); }
+
+CameraShadowRays parseCameraShadowRays(std::string_view name, const std::string& file,
+                                       const std::string& field) {
+  return parseNamed(name, kCameraShadowRaysNames, "camera shadow rays", file, field);
+}
+
+std::string_view cameraShadowRaysName(CameraShadowRays c) {
+  return nameOf(c, kCameraShadowRaysNames);
+}
 
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field) {
@@ -129,6 +141,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.lvoxelLightBlend =
       p.choice("lvoxel_light_blend", std::string(lvoxelLightBlendName(s.lvoxelLightBlend)),
                parseLvoxelLightBlend);
+  s.cameraShadowRays =
+      p.choice("camera_shadow_rays", std::string(cameraShadowRaysName(s.cameraShadowRays)),
+               parseCameraShadowRays);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
@@ -184,6 +199,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));
+  l.add(p + "camera_shadow_rays", cameraShadowRaysName(s.cameraShadowRays));
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);

@@ -24,6 +24,11 @@ enum class LvoxelOwnCube { kRays, kQuadrature };
 // cube lets through, along its sides, what the medium does on average (lvoxel_sampler.h;
 // docs/pcb.md, "Lvoxels that keep the cell's transmittance").
 enum class LvoxelExtinction { kMean, kTransmittance };
+// Which in-scatter evaluations of camera rays test the surfaces between them and each
+// point, spot and directional light with a shadow ray, where the lvoxel cells' blend gives
+// the light's visibility otherwise: those where the cells around disagree (a shadow's
+// edge), all, or none (docs/pcb.md, "Shadow rays at the cells' shadow edges").
+enum class CameraShadowRays { kEdges, kAll, kNone };
 // What the last interreflection pass adds: nothing, or the estimated rest of the bounce
 // series (light_cache.h, InterreflectionPasses).
 enum class BounceTail { kNone, kGeometric };
@@ -71,6 +76,7 @@ struct PointCloudSettings {
   // How camera rays blend the lvoxels' direct light between cell centres (lvoxel_light.h;
   // docs/pcb.md, "Blending the cells' light").
   LvoxelLightBlend lvoxelLightBlend = LvoxelLightBlend::kExponential;
+  CameraShadowRays cameraShadowRays = CameraShadowRays::kEdges;
   float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
@@ -123,6 +129,9 @@ std::string_view lvoxelOwnCubeName(LvoxelOwnCube o);
 LvoxelExtinction parseLvoxelExtinction(std::string_view name, const std::string& file,
                                        const std::string& field);
 std::string_view lvoxelExtinctionName(LvoxelExtinction e);
+CameraShadowRays parseCameraShadowRays(std::string_view name, const std::string& file,
+                                       const std::string& field);
+std::string_view cameraShadowRaysName(CameraShadowRays c);
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field);
 std::string_view bounceTailName(BounceTail t);

@@ -366,7 +366,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     size_t sampled = 0;
     // Anisotropic media make directional lvoxels when the cloud carries multiple
     // scattering (pcb_media.h); with no bounces they hold the exact single scattering.
-    const bool directional = settings.bounces > 0 && anisotropicLvoxels(volume.media());
+    const bool directional = directionalLvoxels(volume.media(), settings);
     lvoxels = sampleSceneLvoxels(volume.media(),
                                  lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
                                  settings.lvoxelSamples, settings.lvoxelExtinction, seed,
@@ -489,7 +489,8 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
       finalGatherOptions(ctx, cache, settings, surfelSpacing(ctx.world, settings), perSample);
   const LightSubset atHits{.constantEnvironment = !cache.environmentInGathers};
   auto emitters = std::make_shared<const EmitterPixels>(ctx, ctx.settings.emitterSamples);
-  return [&ctx, &volume, &cache, &counters, options, atHits, emitters](
+  const CameraShadowRays cameraShadowRays = settings.cameraShadowRays;
+  return [&ctx, &volume, &cache, &counters, options, atHits, emitters, cameraShadowRays](
              const PixelSample& s, Rng& rng, SampleLayers* layers) {
     const World& world = ctx.world;
     const float px = s.filmX, py = s.filmY;
@@ -542,8 +543,12 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
     if (cache.lvoxels) {
       // Traced gathers mark the cells near surfaces; camera rays then leave out the light
       // of cells across a surface.
-      const PointCloudScatter scatter{cache.cloud->lvoxels().light, ctx.lights, volume.media(),
-                                      &ctx.tracer};
+      const PointCloudScatter scatter{cache.cloud->lvoxels().light,
+                                      ctx.lights,
+                                      volume.media(),
+                                      &ctx.tracer,
+                                      cameraShadowRays,
+                                      &shadowRays};
       l = volume.radianceWith(ray, tEnd, behind, rng.uniform(), scatter, solveCounts, partsOut);
     } else {
       l = volume.radiance(ray, tEnd, behind, rng, solveCounts, partsOut);

@@ -90,6 +90,10 @@ bool anisotropicLvoxels(const MediaSet& media) {
   return false;
 }
 
+bool directionalLvoxels(const MediaSet& media, const PointCloudSettings& settings) {
+  return settings.bounces > 0 && anisotropicLvoxels(media);
+}
+
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile) {
   const Vec3 d = media.bounds().diagonal();
   if (!(requested > 0.0f)) return std::max({d.x, d.y, d.z}) / 48.0f;
@@ -102,6 +106,15 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
                      std::to_string(s) + " gives " + std::to_string(static_cast<long long>(cells)) +
                          " cells over the media (at most 50,000,000)");
   return s;
+}
+
+int lvoxelResolution(const MediaSet& media, const PointCloudSettings& settings,
+                     const std::string& sceneFile) {
+  const Vec3 d = media.bounds().diagonal();
+  const float extent = std::max({d.x, d.y, d.z});
+  const float spacing = lvoxelSpacing(settings.lvoxelSpacing, media, sceneFile);
+  // Less a rounding margin: the derived spacing divides the extent exactly 48 times.
+  return std::max(1, static_cast<int>(std::ceil(extent / spacing - 1e-3f)));
 }
 
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
@@ -234,6 +247,24 @@ void cloudDirectLight(const LightSet& lights, LvoxelLight& light, uint32_t slot,
   }
 }
 
+void PointCloudScatter::testShadow(const Vec3& x, const LightSample& s, size_t k,
+                                   LvoxelLightSample& blended) const {
+  // The cells' visibility of the light, blended: 1 where every corner sees it, 0 where
+  // none does (a delta light's is the same in every colour).
+  const float visible = blended.visibility[k].x;
+  const bool edge = visible > 0.0f && visible < 1.0f;
+  if (!(edge || (shadowRayTests == CameraShadowRays::kAll && visible > 0.0f))) return;
+  Ray shadow;
+  shadow.origin = x;
+  shadow.dir = s.wi;
+  shadow.tmin = 0.0f;
+  shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
+  if (shadowRays) ++*shadowRays;
+  // Visible: the media's part alone (the blend over the corners the light reaches).
+  blended.transmittance[k] =
+      tracer->occluded(shadow) ? RGB(0.0f) : blended.transmittance[k] / visible;
+}
+
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
                                   const MediumCoefficients* perMedium) const {
   thread_local LvoxelLightSample cached;
@@ -246,6 +277,9 @@ RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,
   thread_local std::vector<LightSample> samples;
   samples.resize(deltaCount);
   for (size_t k = 0; k < deltaCount; ++k) samples[k] = lights.sampleDelta(lights.lights()[k], x);
+  if (tracer && shadowRayTests != CameraShadowRays::kNone)
+    for (size_t k = 0; k < deltaCount; ++k)
+      if (!isBlack(samples[k].radiance)) testShadow(x, samples[k], k, cached);
   RGB source(0.0f);
   for (size_t m = 0; m < media.size(); ++m) {
     if (isBlack(perMedium[m].sigmaS)) continue;

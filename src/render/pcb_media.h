@@ -29,10 +29,17 @@ namespace lvox {
 // Whether some medium's phase is not isotropic (then the lvoxels of a cloud with multiple
 // scattering are directional).
 bool anisotropicLvoxels(const MediaSet& media);
+// Whether the cloud's lvoxels are directional: anisotropic media and a cloud that carries
+// multiple scattering. Then the light from the sources reaches the lvoxels and the camera
+// rays' in-scatter through the media without their forward peaks.
+bool directionalLvoxels(const MediaSet& media, const PointCloudSettings& settings);
 
 // The lvoxel spacing: `requested` (pointcloud.lvoxel_spacing of `sceneFile`) when
 // positive, else 1/48 of the largest extent of the media.
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile);
+// Lvoxel cells along the media's largest extent at that spacing (48 when it is derived).
+int lvoxelResolution(const MediaSet& media, const PointCloudSettings& settings,
+                     const std::string& sceneFile);
 
 // Samples lvoxels in every medium on one grid of the given spacing over all media; their
 // light has a transmittance channel per delta light of `lights`. Over several ranks
@@ -80,7 +87,17 @@ struct PointCloudScatter {
   const MediaSet& media;
   // The light of cells across a surface from x is left out (LvoxelLight::interpolate).
   const RayTracer* tracer = nullptr;
+  // Which evaluations test the surfaces towards each point, spot and directional light
+  // with a shadow ray (pointcloud.camera_shadow_rays; needs `tracer`); the media's part of
+  // the light's transmittance stays the cells' blend. Each ray adds 1 to *shadowRays.
+  CameraShadowRays shadowRayTests = CameraShadowRays::kNone;
+  uint64_t* shadowRays = nullptr;
   RGB operator()(const Vec3& x, const Vec3& viewDir, const MediumCoefficients* perMedium) const;
+
+ private:
+  // Delta light k's blended transmittance at x, with its visibility from a shadow ray where
+  // shadowRayTests asks for one.
+  void testShadow(const Vec3& x, const LightSample& s, size_t k, LvoxelLightSample& blended) const;
 };
 
 }  // namespace lvox

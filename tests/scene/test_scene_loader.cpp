@@ -172,6 +172,10 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                "rays", LvoxelOwnCube::kRays, "exact");
   expectChoice("lvoxel_extinction", &PointCloudSettings::lvoxelExtinction,
                LvoxelExtinction::kTransmittance, "mean", LvoxelExtinction::kMean, "median");
+  expectChoice("camera_shadow_rays", &PointCloudSettings::cameraShadowRays,
+               CameraShadowRays::kEdges, "none", CameraShadowRays::kNone, "some");
+  expectChoice("camera_shadow_rays", &PointCloudSettings::cameraShadowRays,
+               CameraShadowRays::kEdges, "all", CameraShadowRays::kAll, "every");
   expectChoice("bounce_tail", &PointCloudSettings::bounceTail, BounceTail::kGeometric, "none",
                BounceTail::kNone, "linear");
   expectChoice("gather_fit", &PointCloudSettings::gatherFit, GatherFit::kLinear, "constant",
