@@ -366,7 +366,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     size_t sampled = 0;
     // Anisotropic media make directional lvoxels when the cloud carries multiple
     // scattering (pcb_media.h); with no bounces they hold the exact single scattering.
-    const bool directional = directionalLvoxels(volume.media(), settings);
+    const bool directional = settings.bounces > 0 && anisotropicLvoxels(volume.media());
     lvoxels = sampleSceneLvoxels(volume.media(),
                                  lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
                                  settings.lvoxelSamples, settings.lvoxelExtinction, seed,

@@ -90,10 +90,6 @@ bool anisotropicLvoxels(const MediaSet& media) {
   return false;
 }
 
-bool directionalLvoxels(const MediaSet& media, const PointCloudSettings& settings) {
-  return settings.bounces > 0 && anisotropicLvoxels(media);
-}
-
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile) {
   const Vec3 d = media.bounds().diagonal();
   if (!(requested > 0.0f)) return std::max({d.x, d.y, d.z}) / 48.0f;
@@ -106,15 +102,6 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
                      std::to_string(s) + " gives " + std::to_string(static_cast<long long>(cells)) +
                          " cells over the media (at most 50,000,000)");
   return s;
-}
-
-int lvoxelResolution(const MediaSet& media, const PointCloudSettings& settings,
-                     const std::string& sceneFile) {
-  const Vec3 d = media.bounds().diagonal();
-  const float extent = std::max({d.x, d.y, d.z});
-  const float spacing = lvoxelSpacing(settings.lvoxelSpacing, media, sceneFile);
-  // Less a rounding margin: the derived spacing divides the extent exactly 48 times.
-  return std::max(1, static_cast<int>(std::ceil(extent / spacing - 1e-3f)));
 }
 
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,

@@ -29,17 +29,10 @@ namespace lvox {
 // Whether some medium's phase is not isotropic (then the lvoxels of a cloud with multiple
 // scattering are directional).
 bool anisotropicLvoxels(const MediaSet& media);
-// Whether the cloud's lvoxels are directional: anisotropic media and a cloud that carries
-// multiple scattering. Then the light from the sources reaches the lvoxels and the camera
-// rays' in-scatter through the media without their forward peaks.
-bool directionalLvoxels(const MediaSet& media, const PointCloudSettings& settings);
 
 // The lvoxel spacing: `requested` (pointcloud.lvoxel_spacing of `sceneFile`) when
 // positive, else 1/48 of the largest extent of the media.
 float lvoxelSpacing(float requested, const MediaSet& media, const std::string& sceneFile);
-// Lvoxel cells along the media's largest extent at that spacing (48 when it is derived).
-int lvoxelResolution(const MediaSet& media, const PointCloudSettings& settings,
-                     const std::string& sceneFile);
 
 // Samples lvoxels in every medium on one grid of the given spacing over all media; their
 // light has a transmittance channel per delta light of `lights`. Over several ranks
