@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "render/closed_room.h"
 #include "src/render/environment_cache.h"
 #include "src/render/renderer.h"
 #include "src/scene/scene_loader.h"
@@ -135,16 +136,7 @@ TEST(EnvironmentCache, DirectModeConvergesToExactShadowRays) {
 // ceiling into it lit it (the sunlit gallery's smoke, which its walls and ceiling cut, came
 // out 2 % too bright in direct mode for that, docs/results.md, stop 49).
 TEST(EnvironmentCache, NoSkyLeaksThroughACeilingThatCutsTheCloud) {
-  std::string walls;
-  const char* quads[] = {"[[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]]",
-                         "[[-1, 2, -1], [1, 2, -1], [1, 2, 1], [-1, 2, 1]]",
-                         "[[-1, 0, -1], [-1, 2, -1], [-1, 2, 1], [-1, 0, 1]]",
-                         "[[1, 0, -1], [1, 2, -1], [1, 2, 1], [1, 0, 1]]",
-                         "[[-1, 0, -1], [1, 0, -1], [1, 2, -1], [-1, 2, -1]]",
-                         "[[-1, 0, 1], [1, 0, 1], [1, 2, 1], [-1, 2, 1]]"};
-  for (const char* q : quads)
-    walls += std::string(walls.empty() ? "" : ", ") +
-             R"({"type": "quad", "material": "white", "corners": )" + q + "}";
+  const std::string walls = test::closedRoomWalls("white");
   const std::string text = R"({
     "camera": {"position": [0, 0.8, -0.9], "look_at": [0, 2, 0.3], "vfov_deg": 60, "width": 16, "height": 16},
     "render": {"mode": "direct", "spp": 8, "seed": 1},

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "render/closed_room.h"
 #include "render/render_pixel.h"
 #include "src/core/image_metrics.h"
 #include "src/core/rng.h"
@@ -473,16 +474,7 @@ namespace {
 // walls cut, came out 1.1-1.5 % too bright for that, docs/results.md, stop 48). Returns
 // the mean red of the view from `camera`, and the render's report.
 double closedRoomUnderSunlitFog(const std::string& camera, Report& report) {
-  std::string walls;
-  const char* quads[] = {"[[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]]",
-                         "[[-1, 2, -1], [1, 2, -1], [1, 2, 1], [-1, 2, 1]]",
-                         "[[-1, 0, -1], [-1, 2, -1], [-1, 2, 1], [-1, 0, 1]]",
-                         "[[1, 0, -1], [1, 2, -1], [1, 2, 1], [1, 0, 1]]",
-                         "[[-1, 0, -1], [1, 0, -1], [1, 2, -1], [-1, 2, -1]]",
-                         "[[-1, 0, 1], [1, 0, 1], [1, 2, 1], [-1, 2, 1]]"};
-  for (const char* q : quads)
-    walls += std::string(walls.empty() ? "" : ", ") +
-             R"({"type": "quad", "material": "white", "corners": )" + q + "}";
+  const std::string walls = test::closedRoomWalls("white");
   const std::string text = R"({
     "camera": )" + camera + R"(,
     "render": {"mode": "pcb", "spp": 1, "seed": 1},
