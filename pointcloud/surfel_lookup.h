@@ -22,8 +22,10 @@
 namespace lvox {
 
 // The lookup's choice among candidate surfels for a surface point p seen from the side n
-// faces: the smallest metric (index breaks ties) whose plane is within 60 degrees of n if
-// it lies within four cells, else the smallest at all within two cells, else none.
+// faces: the smallest metric (index breaks ties) whose plane is within 25 degrees of n if
+// it lies within four cells, else the smallest at all within two cells, else none. (60
+// degrees until stop 49: on Sponza's mouldings a neighbouring facet at 30-60 degrees
+// then stood for the hit, with 0.3-0.5 of its light; docs/results.md, stops 30 and 49.)
 // In the metric, the squared distance, the distance off the surfel's plane counts 4
 // times: a parallel surface close by (the other face of a thin slab) must not win over
 // this surface's own surfels. The distance behind the surface hit (n faces the gather ray)
@@ -31,6 +33,7 @@ namespace lvox {
 // a ledge), whose side seen from here is the solid's dark inside (test_buried_surfels.cpp).
 class NearestSurfelChoice {
  public:
+  static constexpr float kAligned = 0.9f;  // |cos| of the planes' angle: 25 degrees
   NearestSurfelChoice(const CloudSurfels& surfels, const Vec3& p, const Vec3& n)
       : s_(surfels), p_(p), n_(n) {}
   void consider(uint32_t i) {
@@ -42,7 +45,7 @@ class NearestSurfelChoice {
       bestAny_ = d2;
       any_ = i;
     }
-    if (better(d2, i, bestAligned_, aligned_) && std::abs(dot(s_.normal(i), n_)) >= 0.5f) {
+    if (better(d2, i, bestAligned_, aligned_) && std::abs(dot(s_.normal(i), n_)) >= kAligned) {
       bestAligned_ = d2;
       aligned_ = i;
     }
@@ -72,7 +75,7 @@ class SurfelLookup {
   SurfelLookup() = default;
   SurfelLookup(const CloudSurfels& surfels, float cell);
 
-  // The nearest surfel to p whose plane is within 60 degrees of the surface normal n
+  // The nearest surfel to p whose plane is within 25 degrees of the surface normal n
   // (either side), else the nearest at all; -1 when none is within two cells. n faces the
   // side the point is seen from: distance behind the surface counts most.
   long nearest(const Vec3& p, const Vec3& n) const;

@@ -32,7 +32,7 @@ long bruteForceNearest(const CloudSurfels& s, float cell, const Vec3& p, const V
       bestAny = d2;
       any = li;
     }
-    if (d2 < bestAligned && std::abs(dot(s.normal(i), n)) >= 0.5f) {
+    if (d2 < bestAligned && std::abs(dot(s.normal(i), n)) >= NearestSurfelChoice::kAligned) {
       bestAligned = d2;
       aligned = li;
     }
