@@ -1,6 +1,7 @@
 #pragma once
 // Every light of a scene behind one sampling interface: point, spot, directional and
 // environment lights from the scene file, and area lights made of emissive triangles.
+#include <cmath>
 #include <vector>
 
 #include "src/core/low_discrepancy.h"
@@ -22,6 +23,12 @@ struct LightSample {
   bool fromEnvironment = false;  // an environment-map sample (importance-sampled)
   float pdf = 0.0f;  // solid-angle pdf of an area-light or environment-map sample (for MIS)
 };
+
+// The shadow ray from a point in a medium (no surface to step off) towards a light along
+// `wi`, stopping just short of a light `distance` away (infinite: never).
+inline Ray shadowRayFrom(const Vec3& x, const Vec3& wi, float distance) {
+  return Ray{x, wi, 0.0f, std::isinf(distance) ? kInf : distance * (1.0f - 1e-4f)};
+}
 
 class LightSet {
  public:

@@ -54,10 +54,7 @@ RGB mediumNee(const RenderContext& ctx, const MajorantTracker& tracker, const Ve
   RGB sum(0.0f);
   auto add = [&](const LightSample& s) {
     ++counters.rays;
-    Ray shadow;
-    shadow.origin = x;
-    shadow.dir = s.wi;
-    shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
+    const Ray shadow = shadowRayFrom(x, s.wi, s.distance);
     if (ctx.tracer.occluded(shadow)) return;
     // Light travels along -wi and continues along -dir towards the previous vertex.
     sum += s.radiance * shadowTransmittance(tracker, shadow, rng, counters) *

@@ -59,11 +59,7 @@ struct LightPath {
 
 LightPath lightPath(const RenderContext& ctx, const VolumeTransport& volume, const Vec3& x,
                     const Vec3& wi, float distance, bool reduced, rte::SolveCounts& counts) {
-  Ray shadow;
-  shadow.origin = x;
-  shadow.dir = wi;
-  shadow.tmin = 0.0f;
-  shadow.tmax = std::isinf(distance) ? kInf : distance * (1.0f - 1e-4f);
+  const Ray shadow = shadowRayFrom(x, wi, distance);
   if (ctx.tracer.occluded(shadow)) return {};
   return {true, volume.transmittance(shadow, counts, reduced)};
 }
@@ -241,15 +237,11 @@ void PointCloudScatter::testShadow(const Vec3& x, const LightSample& s, size_t k
   const float visible = blended.visibility[k].x;
   const bool edge = visible > 0.0f && visible < 1.0f;
   if (!(edge || (shadowRayTests == CameraShadowRays::kAll && visible > 0.0f))) return;
-  Ray shadow;
-  shadow.origin = x;
-  shadow.dir = s.wi;
-  shadow.tmin = 0.0f;
-  shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
   if (shadowRays) ++*shadowRays;
   // Visible: the media's part alone (the blend over the corners the light reaches).
-  blended.transmittance[k] =
-      tracer->occluded(shadow) ? RGB(0.0f) : blended.transmittance[k] / visible;
+  blended.transmittance[k] = tracer->occluded(shadowRayFrom(x, s.wi, s.distance))
+                                 ? RGB(0.0f)
+                                 : blended.transmittance[k] / visible;
 }
 
 RGB PointCloudScatter::operator()(const Vec3& x, const Vec3& viewDir,

@@ -148,11 +148,7 @@ RGB VolumeTransport::singleScatterSource(const Vec3& x, const Vec3& viewDir,
   // `cachedLight`: the index of a point, spot or directional light whose transmittance the
   // shadow cache holds, or -1 for an exact shadow ray.
   auto add = [&](const LightSample& s, long cachedLight) {
-    Ray shadow;
-    shadow.origin = x;
-    shadow.dir = s.wi;
-    shadow.tmin = 0.0f;
-    shadow.tmax = std::isinf(s.distance) ? kInf : s.distance * (1.0f - 1e-4f);
+    const Ray shadow = shadowRayFrom(x, s.wi, s.distance);
     if (ctx_.tracer.occluded(shadow)) return;
     const RGB t = cachedLight >= 0 ? shadowCache_->lookup(static_cast<size_t>(cachedLight), x)
                                    : transmittance(shadow, counts);
