@@ -137,6 +137,17 @@ RGB attenuation(const RGB& depth, float weight) {
 
 }  // namespace
 
+namespace {
+
+// Rounding must not make a light that every corner sees look partly hidden.
+RGB wholeWhereEveryCornerSees(RGB visible) {
+  for (int c = 0; c < 3; ++c)
+    if (visible[c] >= 1.0f - 1e-5f) visible[c] = 1.0f;
+  return visible;
+}
+
+}  // namespace
+
 RGB LvoxelLight::blendedVisibility(const size_t* slots, const float* weights, int corners,
                                    float inv, size_t k) const {
   // Without the clear channels (a light whose camera channels were set by hand) every
@@ -145,12 +156,7 @@ RGB LvoxelLight::blendedVisibility(const size_t* slots, const float* weights, in
   RGB clear(0.0f);
   for (int i = 0; i < corners; ++i)
     clear += blendable_[slots[i] * cameraStride() + k].clear * weights[i];
-  // Rounding must not make a light that every corner sees look partly hidden.
-  for (int c = 0; c < 3; ++c) {
-    const float v = clear[c] * inv;
-    clear[c] = v >= 1.0f - 1e-5f ? 1.0f : v;
-  }
-  return clear;
+  return clear * inv;
 }
 
 void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights, int corners,
@@ -164,7 +170,8 @@ void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights,
   LVOX_CHECK(
       blend_ == LvoxelLightBlend::kLinear || blendable_.size() == cell_.size() * cameraStride(),
       "lvoxel light: exponential blend before finishCameraChannels");
-  auto exponential = [&](size_t k) {
+  // Also gives the blended clear light (for a delta light: its visibility).
+  auto exponential = [&](size_t k, RGB& blendedClear) {
     const size_t stride = cameraStride();
     RGB clear(0.0f), depth(0.0f);
     float depthWeight = 0.0f;
@@ -178,15 +185,20 @@ void LvoxelLight::blendCameraChannels(const size_t* slots, const float* weights,
         depthWeight += weights[i];
       }
     }
-    return clear * inv * attenuation(depth, depthWeight);
+    blendedClear = clear * inv;
+    return blendedClear * attenuation(depth, depthWeight);
   };
   for (size_t k = 0; k < cameraStride(); ++k) {
-    const RGB value = blend_ == LvoxelLightBlend::kLinear ? linear(k) : exponential(k);
+    const bool linearBlend = blend_ == LvoxelLightBlend::kLinear;
+    RGB clear(1.0f);
+    const RGB value = linearBlend ? linear(k) : exponential(k, clear);
     if (k < deltaLights_) {
       out.transmittance[k] = value;
-      out.visibility[k] = blendedVisibility(slots, weights, corners, inv, k);
-    } else
+      if (linearBlend) clear = blendedVisibility(slots, weights, corners, inv, k);
+      out.visibility[k] = wholeWhereEveryCornerSees(clear);
+    } else {
       out.towardsCamera[k - deltaLights_] = value;
+    }
   }
 }
 

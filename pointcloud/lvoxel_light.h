@@ -168,7 +168,7 @@ class LvoxelLight {
   void blendCameraChannels(const size_t* slots, const float* weights, int corners, float weightSum,
                            LvoxelLightSample& out) const;
   // Delta light k's visibility (its clear channel) blended over the corners (1 / their
-  // weights' sum: inv); exactly 1 where every corner sees it, 0 where none does.
+  // weights' sum: inv), for the linear blend (the exponential one blends it anyway).
   RGB blendedVisibility(const size_t* slots, const float* weights, int corners, float inv,
                         size_t k) const;
   int coefficients_ = 1;
