@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "pointcloud/buried_surfels.h"
+#include "pointcloud/cube_transmittance.h"
 #include "pointcloud/gather.h"
 #include "pointcloud/light_cache.h"
 #include "pointcloud/surfel_sampler.h"
@@ -288,7 +289,14 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
                 (static_cast<uint64_t>(q.index) << 1) |
                     (dot(q.normal, cloud.surfels().normal(q.index)) < 0));
         rte::SolveCounts& local = perThread.local();
+        // The cubes hold the media as the cloud's light sees them (reduced where the
+        // lvoxels are directional, as cache.reducedShadows asks).
+        const bool cubes = cache.lvoxels && settings.surfelShadowMedia == SurfelShadowMedia::kCubes;
         auto throughMedia = [&](const Ray& shadow) {
+          if (cubes) {
+            thread_local TraversalScratch scratch;
+            return cubeTransmittance(cloud, shadow, scratch);
+          }
           return volume.transmittance(shadow, local, cache.reducedShadows);
         };
         uint64_t rays = 0;
