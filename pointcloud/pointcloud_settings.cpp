@@ -23,8 +23,8 @@ constexpr Named<LvoxelExtinction> kExtinctionNames[] = {
 constexpr Named<CameraShadowRays> kCameraShadowRaysNames[] = {{CameraShadowRays::kEdges, "edges"},
                                                               {CameraShadowRays::kAll, "all"},
                                                               {CameraShadowRays::kNone, "none"}};
-constexpr Named<SurfelShadowMedia> kSurfelShadowMediaNames[] = {
-    {SurfelShadowMedia::kCubes, "cubes"}, {SurfelShadowMedia::kMedia, "media"}};
+constexpr Named<IndirectShadowMedia> kIndirectShadowMediaNames[] = {
+    {IndirectShadowMedia::kCubes, "cubes"}, {IndirectShadowMedia::kMedia, "media"}};
 constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
                                             {BounceTail::kGeometric, "geometric"}};
 constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
@@ -76,13 +76,13 @@ CameraShadowRays parseCameraShadowRays(std::string_view name, const std::string&
   return parseNamed(name, kCameraShadowRaysNames, "camera shadow rays", file, field);
 }
 
-SurfelShadowMedia parseSurfelShadowMedia(std::string_view name, const std::string& file,
-                                         const std::string& field) {
-  return parseNamed(name, kSurfelShadowMediaNames, "surfel shadow media", file, field);
+IndirectShadowMedia parseIndirectShadowMedia(std::string_view name, const std::string& file,
+                                             const std::string& field) {
+  return parseNamed(name, kIndirectShadowMediaNames, "indirect shadow media", file, field);
 }
 
-std::string_view surfelShadowMediaName(SurfelShadowMedia s) {
-  return nameOf(s, kSurfelShadowMediaNames);
+std::string_view indirectShadowMediaName(IndirectShadowMedia s) {
+  return nameOf(s, kIndirectShadowMediaNames);
 }
 
 std::string_view cameraShadowRaysName(CameraShadowRays c) {
@@ -156,9 +156,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.cameraShadowRays =
       p.choice("camera_shadow_rays", std::string(cameraShadowRaysName(s.cameraShadowRays)),
                parseCameraShadowRays);
-  s.surfelShadowMedia =
-      p.choice("surfel_shadow_media", std::string(surfelShadowMediaName(s.surfelShadowMedia)),
-               parseSurfelShadowMedia);
+  s.indirectShadowMedia =
+      p.choice("indirect_shadow_media", std::string(indirectShadowMediaName(s.indirectShadowMedia)),
+               parseIndirectShadowMedia);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
@@ -215,7 +215,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));
   l.add(p + "camera_shadow_rays", cameraShadowRaysName(s.cameraShadowRays));
-  l.add(p + "surfel_shadow_media", surfelShadowMediaName(s.surfelShadowMedia));
+  l.add(p + "indirect_shadow_media", indirectShadowMediaName(s.indirectShadowMedia));
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);

@@ -31,10 +31,11 @@ enum class LvoxelExtinction { kMean, kTransmittance };
 // the light's visibility otherwise: those where the cells around disagree (a shadow's
 // edge), all, or none (docs/pcb.md, "Shadow rays at the cells' shadow edges").
 enum class CameraShadowRays { kEdges, kAll, kNone };
-// Where the surfels' cached direct light finds the media on its shadow rays: the lvoxels'
-// cubes (cube_transmittance.h), or the media themselves (docs/pcb.md, "Shadow rays
-// through the cubes").
-enum class SurfelShadowMedia { kCubes, kMedia };
+// Where the shadow rays of the light the image receives only through the cloud and the
+// gathers find the media (the surfels' cached direct light, the delta lights at the
+// gathers' hits): the lvoxels' cubes (cube_transmittance.h), or the media themselves
+// (docs/pcb.md, "Shadow rays through the cubes").
+enum class IndirectShadowMedia { kCubes, kMedia };
 // What the last interreflection pass adds: nothing, or the estimated rest of the bounce
 // series (light_cache.h, InterreflectionPasses).
 enum class BounceTail { kNone, kGeometric };
@@ -83,7 +84,7 @@ struct PointCloudSettings {
   // docs/pcb.md, "Blending the cells' light").
   LvoxelLightBlend lvoxelLightBlend = LvoxelLightBlend::kExponential;
   CameraShadowRays cameraShadowRays = CameraShadowRays::kEdges;
-  SurfelShadowMedia surfelShadowMedia = SurfelShadowMedia::kCubes;
+  IndirectShadowMedia indirectShadowMedia = IndirectShadowMedia::kCubes;
   float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
@@ -139,9 +140,9 @@ std::string_view lvoxelExtinctionName(LvoxelExtinction e);
 CameraShadowRays parseCameraShadowRays(std::string_view name, const std::string& file,
                                        const std::string& field);
 std::string_view cameraShadowRaysName(CameraShadowRays c);
-SurfelShadowMedia parseSurfelShadowMedia(std::string_view name, const std::string& file,
-                                         const std::string& field);
-std::string_view surfelShadowMediaName(SurfelShadowMedia s);
+IndirectShadowMedia parseIndirectShadowMedia(std::string_view name, const std::string& file,
+                                             const std::string& field);
+std::string_view indirectShadowMediaName(IndirectShadowMedia s);
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field);
 std::string_view bounceTailName(BounceTail t);

@@ -1,5 +1,6 @@
 #include "src/render/delta_hit_light.h"
 
+#include "pointcloud/cube_transmittance.h"
 #include "src/render/surface_albedo.h"
 #include "src/render/surface_direct.h"
 
@@ -25,6 +26,10 @@ RGB DeltaHitLight::reflected(const Vec3& p, const Vec3& n, const RGB& albedo) co
 RGB DeltaHitLight::reflectedAt(const SurfaceHit& hit, const RGB& albedo) const {
   Counts& local = counts_.local();
   auto throughMedia = [&](const Ray& shadow) {
+    if (cubes_) {
+      thread_local TraversalScratch scratch;
+      return cubeTransmittance(*cubes_, shadow, scratch);
+    }
     return volume_.transmittance(shadow, local.solve, reducedShadows_);
   };
   Rng unused(0, 0);  // delta lights take no random numbers

@@ -291,7 +291,8 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
         rte::SolveCounts& local = perThread.local();
         // The cubes hold the media as the cloud's light sees them (reduced where the
         // lvoxels are directional, as cache.reducedShadows asks).
-        const bool cubes = cache.lvoxels && settings.surfelShadowMedia == SurfelShadowMedia::kCubes;
+        const bool cubes =
+            cache.lvoxels && settings.indirectShadowMedia == IndirectShadowMedia::kCubes;
         auto throughMedia = [&](const Ray& shadow) {
           if (cubes) {
             thread_local TraversalScratch scratch;
@@ -402,7 +403,11 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
       }
       buildHitSurfels(ctx, settings, spacing, sceneFile, cache);
       if (!ctx.lights.lights().empty())
-        cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows);
+        cache.hitLight = std::make_unique<DeltaHitLight>(
+            ctx, volume, cache.reducedShadows,
+            cache.lvoxels && settings.indirectShadowMedia == IndirectShadowMedia::kCubes
+                ? cache.cloud.get()
+                : nullptr);
       cache.environmentInGathers = !isBlack(ctx.lights.environment());
       cache.surfelEnvironmentInGathers = cache.environmentInGathers && settings.bounces > 0;
     }

@@ -627,50 +627,63 @@ TEST(PointBasedMedia, ShadowRaysAtTheCellsShadowEdgesKeepASunbeamSharp) {
 namespace lvox {
 namespace {
 
-// A closed white room (2 x 2 x 2) with a lamp by its wall at x = -1 and a slab of smoke
-// across it (x from -0.6 to -0.2, optical depth `depth` across): the room's far half is
-// lit through the slab, and the camera looks into that half only, so the slab's shadow
-// reaches the image through the lamp's light on the camera's hits (exact shadow rays) and
-// through the cloud's light, which the surfels cache with `surfelShadows`.
-Image roomLitThroughASlab(const std::string& surfelShadows, float depth, Report& report) {
+// A closed white room (2 x 2 x 2) lit by a lamp by its wall at x = -1 (a square emitter,
+// or with `pointLight` a point light) through a slab of noisy smoke across it (x from
+// -0.6 to -0.2, optical depth about `depth` across): the camera looks into the far half
+// only, so the slab's shadow reaches the image through the lamp's light on the camera's
+// hits (exact shadow rays) and through the light the image receives indirectly, whose
+// shadow rays cross `shadows` (the surfels' cache for the emitter, the gathers' hits for
+// the point light).
+Image roomLitThroughASlab(const std::string& shadows, float depth, bool pointLight,
+                          Report& report) {
+  const std::string lamp =
+      pointLight ? R"(], "lights": [{"type": "point", "position": [-0.9, 1.4, 0], "intensity": 3}])"
+                 : R"(, {"type": "quad", "material": "lamp", "corners":
+                [[-0.98, 1.2, -0.2], [-0.98, 1.6, -0.2], [-0.98, 1.6, 0.2], [-0.98, 1.2, 0.2]]}])";
+  const std::string sigma = std::to_string(0.5f * depth / 0.4f);
   const std::string text = R"({
     "camera": {"position": [0.5, 1.0, -0.95], "look_at": [1.0, 0.9, 0.3], "vfov_deg": 40, "width": 32, "height": 24},
     "render": {"mode": "pcb", "spp": 4, "seed": 1},
     "materials": {"white": {"albedo": 0.7}, "lamp": {"albedo": 0, "emission": 20}},
     "shapes": [)" + test::closedRoomWalls("white") +
-                           R"(, {"type": "quad", "material": "lamp", "corners":
-                [[-0.98, 1.2, -0.2], [-0.98, 1.6, -0.2], [-0.98, 1.6, 0.2], [-0.98, 1.2, 0.2]]}],
+                           lamp + R"(,
     "media": [{"type": "procedural", "kind": "noise", "frequency": 3,
                "min": [-0.6, 0.001, -0.999], "max": [-0.2, 1.999, 0.999],
                "sigma_a": )" +
-                           std::to_string(0.5f * depth / 0.4f) + R"(, "sigma_s": )" +
-                           std::to_string(0.5f * depth / 0.4f) + R"(}],
-    "pointcloud": {"lvoxel_spacing": 0.1, "surfel_shadow_media": ")" +
-                           surfelShadows + R"("}})";
+                           sigma + R"(, "sigma_s": )" + sigma + R"(}],
+    "pointcloud": {"lvoxel_spacing": 0.1, "indirect_shadow_media": ")" +
+                           shadows + R"("}})";
   return renderScene(parseScene(text, "/tmp/pcb-slab-room-test.json").job(), report);
 }
 
-// The cubes keep the slab's noisy medium's transmittance across each cell, so the surfels'
-// light through them is close to the media's: the images are 0.67 % apart (mean 0.9933).
-// Against MC (64 x 48, 2,048 spp) the cubes' indirect light is the closer one, +0.14 %
-// of the image against +0.82 % (docs/results.md, stop 50): the gathers carry the cloud's
-// light through the same cubes. The slab's shadow matters: through half the depth the
-// room is 35 % brighter. The cubes' shadow rays evaluate no medium (cache_medium_evals
-// falls from 2.97 M to the lvoxels' own light, 0.10 M).
-TEST(PointBasedMedia, SurfelsShadowRaysThroughTheCubesSeeTheSlabAsTheMediumDoes) {
-  Report mediaReport, cubesReport, thinReport;
-  const Image media = roomLitThroughASlab("media", 1.2f, mediaReport);
-  const ImageError cubes = compareImages(roomLitThroughASlab("cubes", 1.2f, cubesReport), media);
-  const ImageError thin = compareImages(roomLitThroughASlab("cubes", 0.6f, thinReport), media);
-  std::printf(
-      "room lit through a slab: cubes against media %.3f %% (mean %.5f); half the depth %.2f %% "
-      "(mean %.4f); cache medium evaluations %llu (media) and %llu (cubes)\n",
-      cubes.deltaPercent, cubes.meanRatio, thin.deltaPercent, thin.meanRatio,
-      static_cast<unsigned long long>(mediaReport.count("cache_medium_evals")),
-      static_cast<unsigned long long>(cubesReport.count("cache_medium_evals")));
-  EXPECT_LT(cubes.deltaPercent, 1.0);
-  EXPECT_GT(thin.meanRatio, 1.05);
-  EXPECT_LT(cubesReport.count("cache_medium_evals"), mediaReport.count("cache_medium_evals"));
+// The cubes keep the slab's noisy medium's transmittance across each cell, so the light
+// through them is close to the media's. With the emitter (the surfels' cache) the images
+// are 0.67 % apart (mean 0.9933); against MC (64 x 48, 2,048 spp) the cubes' indirect light
+// is the closer one, +0.14 % of the image against +0.82 % (docs/results.md, stop 50): the
+// gathers carry the cloud's light through the same cubes. With the point light (the
+// gathers' hits) 0.34 % (mean 0.9966). The slab's shadow matters: through half the depth the room
+// is 35 % brighter. The cubes' shadow rays evaluate no medium: cache_medium_evals fall from 2.97 M
+// to the lvoxels' own light (0.10 M), gather_hit_medium_evals to none.
+TEST(PointBasedMedia, ShadowRaysOfTheIndirectLightThroughTheCubesSeeTheSlabAsTheMediaDo) {
+  for (const bool pointLight : {false, true}) {
+    Report mediaReport, cubesReport, thinReport;
+    const Image media = roomLitThroughASlab("media", 1.2f, pointLight, mediaReport);
+    const ImageError cubes =
+        compareImages(roomLitThroughASlab("cubes", 1.2f, pointLight, cubesReport), media);
+    const ImageError thin =
+        compareImages(roomLitThroughASlab("cubes", 0.6f, pointLight, thinReport), media);
+    const char* medium = pointLight ? "gather_hit_medium_evals" : "cache_medium_evals";
+    std::printf(
+        "room lit through a slab by a%s: cubes against media %.3f %% (mean %.5f); half the depth "
+        "%.2f %% (mean %.4f); %s %llu (media) and %llu (cubes)\n",
+        pointLight ? " point light" : "n emitter", cubes.deltaPercent, cubes.meanRatio,
+        thin.deltaPercent, thin.meanRatio, medium,
+        static_cast<unsigned long long>(mediaReport.count(medium)),
+        static_cast<unsigned long long>(cubesReport.count(medium)));
+    EXPECT_LT(cubes.deltaPercent, 1.0) << pointLight;
+    EXPECT_GT(thin.meanRatio, 1.05) << pointLight;
+    EXPECT_LT(cubesReport.count(medium), mediaReport.count(medium)) << pointLight;
+  }
 }
 
 }  // namespace

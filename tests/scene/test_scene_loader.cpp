@@ -178,8 +178,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                CameraShadowRays::kEdges, "none", CameraShadowRays::kNone, "some");
   expectChoice("camera_shadow_rays", &PointCloudSettings::cameraShadowRays,
                CameraShadowRays::kEdges, "all", CameraShadowRays::kAll, "every");
-  expectChoice("surfel_shadow_media", &PointCloudSettings::surfelShadowMedia,
-               SurfelShadowMedia::kCubes, "media", SurfelShadowMedia::kMedia, "voxels");
+  expectChoice("indirect_shadow_media", &PointCloudSettings::indirectShadowMedia,
+               IndirectShadowMedia::kCubes, "media", IndirectShadowMedia::kMedia, "voxels");
   expectChoice("bounce_tail", &PointCloudSettings::bounceTail, BounceTail::kGeometric, "none",
                BounceTail::kNone, "linear");
   expectChoice("gather_fit", &PointCloudSettings::gatherFit, GatherFit::kLinear, "constant",
