@@ -94,7 +94,6 @@ void LvoxelSet::resize(size_t n) {
   sigmaA.resize(n);
   sigmaS.resize(n);
   if (!emission.empty()) emission.resize(n, RGB(0.0f));
-  if (!clumping.empty()) clumping.resize(n, RGB(0.0f));
   if (!phaseMoments.empty()) phaseMoments.resize(n, {});
   light =
       LvoxelLight(LvoxelGrid{Vec3(0.0f), 1.0f, {static_cast<long>(std::max<size_t>(n, 1)), 1, 1}});
@@ -140,14 +139,6 @@ void LvoxelSet::append(const LvoxelSet& other) {
     else
       cat(emission, other.emission);
   }
-  // Clumping: kept per lvoxel as soon as one set has it (zeros for the other's).
-  if (!other.clumping.empty() || !clumping.empty()) {
-    clumping.resize(size() - other.size(), RGB(0.0f));
-    if (other.clumping.empty())
-      clumping.resize(size(), RGB(0.0f));
-    else
-      cat(clumping, other.clumping);
-  }
   for (uint32_t s : other.slot) slot.push_back(light.occupy(other.light.cellOfSlot(s)));
 }
 
@@ -157,7 +148,6 @@ void LvoxelSet::permute(const std::vector<uint32_t>& order) {
   permuteArray(sigmaA, order);
   permuteArray(sigmaS, order);
   if (!emission.empty()) permuteArray(emission, order);
-  if (!clumping.empty()) permuteArray(clumping, order);
   if (!phaseMoments.empty()) permuteArray(phaseMoments, order);
   if (!cut.empty()) permuteArray(cut, order);
   permuteArray(slot, order);

@@ -238,11 +238,10 @@ struct WholeSurface {
 template <class Sink, class Share = WholeSurface>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
                     float scale, TraversalScratch& scratch, Sink& sink, NearField near = {},
-                    const OwnCube& own = {}, const Share& share = {}) {
+                    long own = -1, const Share& share = {}) {
   sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
-  weights.own = own.lvoxel;
-  weights.transmittance = own.outside;
+  weights.own = own;
   if (!options.tracesSurfaces()) {
     traverse(cloud, ray, weights,
              TraversalOptions{options.maxSolidAngle, options.maxLvoxelSolidAngle}, scratch);
@@ -378,7 +377,7 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
       const float u2 = (static_cast<float>(c) + j2) / static_cast<float>(cols);
       const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
       if (aimed)
-        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, {}, CosineRayShare{mis});
+        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis});
       else
         traceGatherRay(cloud, ray, options, scale, scratch, sink);
     }
@@ -401,7 +400,7 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
     const float weight = cosine / (mis.cosineDensity(cosine) + pl);
     if (!std::isfinite(weight)) continue;
     traceGatherRay(cloud, Ray{p, dir, options.rayOffset, kInf}, options, weight, scratch,
-                   surfaceLight, {}, {}, LightRayShare{y.triangle, distance});
+                   surfaceLight, {}, -1, LightRayShare{y.triangle, distance});
   }
 }
 
@@ -454,11 +453,11 @@ void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo,
   };
   // The own cube by its 14 directions where no surface cuts it (isotropic gathers only:
   // those directions are exact for band-limited light under the isotropic phase).
-  OwnCube own;
+  long own = -1;
   if constexpr (std::is_same_v<Phase, IsotropicPhase>)
     if (options.ownLvoxel >= 0 && options.tracer &&
         !ownCubeCut(cloud.lvoxels(), static_cast<size_t>(options.ownLvoxel), p, *options.tracer))
-      own = ownCubeOf(cloud.lvoxels(), static_cast<uint32_t>(options.ownLvoxel));
+      own = options.ownLvoxel;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const Vec3 wi = direction(r, c);
@@ -474,7 +473,7 @@ void gatherInScatterInto(const PointCloud& cloud, const Vec3& p, const Vec3& wo,
                          w * perRay * near.share, scratch, sink, {}, own);
       }
     }
-  if (own.lvoxel >= 0) ownCubeInto(cloud.lvoxels(), static_cast<uint32_t>(own.lvoxel), sink);
+  if (own >= 0) ownCubeInto(cloud.lvoxels(), static_cast<uint32_t>(own), sink);
 }
 
 template <class Phase>

@@ -24,7 +24,6 @@
 #include "pointcloud/lvoxels.h"
 #include "src/core/error.h"
 #include "src/core/rng.h"
-#include "src/core/sampling.h"
 
 namespace lvox {
 
@@ -49,8 +48,6 @@ struct LvoxelSettings {
   // Scale each cell's coefficients to keep the medium's mean transmittance across the
   // cube (detail::transmittanceFactor); false: the cell's mean coefficients.
   bool keepTransmittance = true;
-  // Estimate each cube's ownClumping (LvoxelSet::clumping).
-  bool ownClumping = true;
   // Only the slices of cells k (along z) with k % sliceCount == sliceIndex: one rank's
   // share of the sampling (docs/cluster.md). Each cell's lvoxel depends on its cell alone,
   // so the shares merged in cell order are the whole set.
@@ -161,60 +158,6 @@ RGB transmittanceFactor(const Medium& medium, const Vec3& lo, float spacing, int
   return f;
 }
 
-// How much more of the light the medium in a cell scatters meets that cell's own medium
-// than in the homogeneous cube standing for it (sigma_t = `sigmaT`), as a share of the
-// cube's optical side (docs/pcb.md, "The own cube of a clumped medium"). The own cube's
-// weights are the coupling seen from its centre, which is exact for a homogeneous cube
-// beside the gathers' other weights (also from the centre). A medium that varies inside
-// the cell scatters where it is dense, and there more of the cell's medium lies near: the
-// excess is E[1 - T_medium(x, w)] - E[1 - T_cube(x, w)] over points x weighted by the
-// medium's sigma_t(x) and uniform directions w, T along w from x to the cube's boundary.
-// 2 m^3 stratified points, one direction each, 4m jittered steps per path; the same paths
-// give both terms, so the difference has little noise. Zero for a homogeneous cell.
-template <class Medium>
-RGB ownClumping(const Medium& medium, const Vec3& lo, float spacing, int m, const RGB& sigmaT,
-                Rng& rng) {
-  const int points = 2 * m * m * m;
-  const int steps = 4 * m;
-  const float fm = static_cast<float>(m);
-  const Vec3 hi = lo + Vec3(spacing, spacing, spacing);
-  std::array<double, 3> weight{}, excess{};
-  for (int s = 0; s < points; ++s) {
-    const int stratum = s / 2;
-    const Vec3 unit((static_cast<float>(stratum % m) + rng.uniform()) / fm,
-                    (static_cast<float>((stratum / m) % m) + rng.uniform()) / fm,
-                    (static_cast<float>(stratum / (m * m)) + rng.uniform()) / fm);
-    const Vec3 x = lo + unit * spacing;
-    const Vec3 w = uniformSphere(rng.uniform(), rng.uniform());
-    float exit = kInf;  // distance from x to the cube's boundary along w
-    for (int a = 0; a < 3; ++a)
-      if (w[a] != 0.0f) exit = std::min(exit, ((w[a] > 0.0f ? hi[a] : lo[a]) - x[a]) / w[a]);
-    exit = std::max(exit, 0.0f);
-    RGB a(0.0f), sc(0.0f);
-    medium.coefficients(x, a, sc);
-    const RGB here = sanitized(a) + sanitized(sc);
-    if (isBlack(here)) continue;
-    const float dt = exit / static_cast<float>(steps);
-    const float offset = rng.uniform();
-    RGB tau(0.0f);
-    for (int k = 0; k < steps; ++k) {
-      medium.coefficients(x + w * ((static_cast<float>(k) + offset) * dt), a, sc);
-      tau += (sanitized(a) + sanitized(sc)) * dt;
-    }
-    for (int c = 0; c < 3; ++c) {
-      weight[c] += here[c];
-      excess[c] += here[c] * (std::exp(-static_cast<double>(sigmaT[c]) * exit) -
-                              std::exp(-static_cast<double>(tau[c])));
-    }
-  }
-  RGB out(0.0f);
-  for (int c = 0; c < 3; ++c)
-    if (weight[c] > 0.0 && sigmaT[c] > 0.0f)
-      out[c] =
-          static_cast<float>(excess[c] / weight[c] / (static_cast<double>(sigmaT[c]) * spacing));
-  return out;
-}
-
 template <class Medium>
 bool mediumEmits(const Medium& medium) {
   if constexpr (EmittingMediumSampler<Medium>)
@@ -275,9 +218,6 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
           sigmaS *= f;
           if (isBlack(sigmaA + sigmaS)) continue;  // no line met the medium
         }
-        if (settings.ownClumping)
-          slice.lvoxels.clumping.push_back(
-              detail::ownClumping(medium, lo, settings.spacing, m, sigmaA + sigmaS, rng));
         if (emits) slice.lvoxels.emission.push_back(emission);
         slice.lvoxels.position.push_back(lo + Vec3(h, h, h));
         slice.lvoxels.halfSize.push_back(h);
@@ -294,7 +234,6 @@ LvoxelSet sampleLvoxels(const Medium& medium, const LvoxelSettings& settings) {
     cat(out.sigmaA, s.lvoxels.sigmaA);
     cat(out.sigmaS, s.lvoxels.sigmaS);
     cat(out.emission, s.lvoxels.emission);
-    cat(out.clumping, s.lvoxels.clumping);
     for (long cell : s.cells) out.slot.push_back(out.light.occupy(cell));
   }
   return out;

@@ -36,11 +36,6 @@ struct LvoxelSet {
   // one side of the surface, and a gather ray that crosses its cube on the other side does
   // not see it glow (docs/pcb.md, "Cubes that a surface cuts").
   std::vector<uint8_t> cut;
-  // Per lvoxel and colour, how much more of the light its medium scatters meets the cube
-  // itself than in a homogeneous cube, per unit of its optical side sigma_t x 2 halfSize
-  // (lvoxel_sampler.h, ownClumping); the own cube's weights add it (own_cube.h). Empty:
-  // zero for every lvoxel (cubes filled by hand, or pointcloud.lvoxel_clumping off).
-  std::vector<RGB> clumping;
   // The light on the lvoxels' cells: in-scattered radiance L_s = integral of phase * L_i
   // over the sphere, W/(m^2 sr); the lvoxel's volume source is sigma_s * L_s.
   LvoxelLight light;
@@ -75,8 +70,7 @@ struct LvoxelSet {
   }
   size_t memoryBytes() const {
     return size() * bytesPerElement() + emission.size() * sizeof(RGB) +
-           phaseMoments.size() * sizeof(phaseMoments[0]) + cut.size() * sizeof(cut[0]) +
-           clumping.size() * sizeof(RGB);
+           phaseMoments.size() * sizeof(phaseMoments[0]) + cut.size() * sizeof(cut[0]);
   }
   void permute(const std::vector<uint32_t>& order);
 };

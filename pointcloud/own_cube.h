@@ -96,56 +96,10 @@ inline OwnCubeWeights ownCubeWeights(const RGB& sigmaT, float h) {
   return out;
 }
 
-// A clumped medium's excess coupling to its own cube, per colour and averaged over
-// directions (LvoxelSet::clumping times the cube's optical side), given the homogeneous
-// cube's weights `w`; zero without clumping. An excess below zero (a medium that couples
-// less to itself than its cube) goes no lower than leaves every weight at zero or above.
-inline RGB ownCubeExcess(const LvoxelSet& lvoxels, size_t i, const OwnCubeWeights& w) {
-  if (lvoxels.clumping.empty()) return RGB(0.0f);
-  const RGB excess = lvoxels.clumping[i] * lvoxels.sigmaT(i) * (2.0f * lvoxels.halfSize[i]);
-  RGB out;
-  for (int c = 0; c < 3; ++c)
-    out[c] = std::max(excess[c], -std::min(15.0f * w.axis[c], (40.0f / 3.0f) * w.corner[c]));
-  return out;
-}
-
-// Adds the excess to the weights, spread evenly over the sphere: a constant's integrals
-// are its value and 3/5 of it against x^4 + y^4 + z^4, which the axes take 1/15 and the
-// corners 3/40 of.
-inline OwnCubeWeights withClumping(OwnCubeWeights w, const RGB& excess) {
-  w.axis += excess * (1.0f / 15.0f);
-  w.corner += excess * (3.0f / 40.0f);
-  return w;
-}
-
-// The own cube in an lvoxel's gather: the lvoxel whose 14 directions stand for its cube
-// (-1: none), and the share of the light from outside the cube that reaches its medium,
-// against what reaches the centre of the homogeneous cube. A clumped medium shades
-// itself: what it couples more to itself (ownCubeExcess) comes from outside less, by as
-// much where the light inside and outside are alike, so the excess moves light between
-// the two only where they differ. Spread evenly: 1 - excess / (1 - the cube's own weight
-// over the sphere).
-struct OwnCube {
-  long lvoxel = -1;
-  RGB outside{1.0f, 1.0f, 1.0f};
-};
-
-inline OwnCube ownCubeOf(const LvoxelSet& lvoxels, uint32_t i) {
-  OwnCube own{static_cast<long>(i), RGB(1.0f)};
-  if (lvoxels.clumping.empty()) return own;
-  const OwnCubeWeights w = ownCubeWeights(lvoxels.sigmaT(i), lvoxels.halfSize[i]);
-  const RGB excess = ownCubeExcess(lvoxels, i, w);
-  const RGB through = RGB(1.0f) - (w.axis * 6.0f + w.corner * 8.0f);
-  for (int c = 0; c < 3; ++c)
-    own.outside[c] = through[c] > 0.0f ? std::max(0.0f, 1.0f - excess[c] / through[c]) : 1.0f;
-  return own;
-}
-
 // Sends the sink lvoxel i's own-cube weights, each of the 14 directions as a ray.
 template <class Sink>
 void ownCubeInto(const LvoxelSet& lvoxels, uint32_t i, Sink& sink) {
-  const OwnCubeWeights homogeneous = ownCubeWeights(lvoxels.sigmaT(i), lvoxels.halfSize[i]);
-  const OwnCubeWeights w = withClumping(homogeneous, ownCubeExcess(lvoxels, i, homogeneous));
+  const OwnCubeWeights w = ownCubeWeights(lvoxels.sigmaT(i), lvoxels.halfSize[i]);
   for (int axis = 0; axis < 3; ++axis)
     for (int sign = -1; sign <= 1; sign += 2) {
       Vec3 d(0.0f, 0.0f, 0.0f);

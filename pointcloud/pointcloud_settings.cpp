@@ -16,8 +16,7 @@ constexpr Named<GatherVisibility> kVisibilityNames[] = {{GatherVisibility::kClou
 constexpr Named<SurfelSamplerKind> kSamplerNames[] = {{SurfelSamplerKind::kUniform, "uniform"},
                                                       {SurfelSamplerKind::kCamera, "camera"}};
 constexpr Named<LvoxelOwnCube> kOwnCubeNames[] = {{LvoxelOwnCube::kRays, "rays"},
-                                                  {LvoxelOwnCube::kQuadrature, "quadrature"},
-                                                  {LvoxelOwnCube::kClumped, "clumped"}};
+                                                  {LvoxelOwnCube::kQuadrature, "quadrature"}};
 constexpr Named<LvoxelExtinction> kExtinctionNames[] = {
     {LvoxelExtinction::kMean, "mean"}, {LvoxelExtinction::kTransmittance, "transmittance"}};
 constexpr Named<CameraShadowRays> kCameraShadowRaysNames[] = {{CameraShadowRays::kEdges, "edges"},

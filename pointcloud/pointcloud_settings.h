@@ -18,10 +18,8 @@ enum class GatherVisibility { kCloud, kRays };
 enum class SurfelSamplerKind { kUniform, kCamera };
 // How an lvoxel's interreflection gather weighs its own cube: sampled by its rays, or by
 // 14 fixed directions exact for light of harmonic bands 0-2, where no surface cuts the
-// cube (own_cube.h; docs/pcb.md, "The own cube"), for the homogeneous cube or with the
-// excess coupling of the medium's clumps inside it (docs/pcb.md, "The own cube of a
-// clumped medium").
-enum class LvoxelOwnCube { kRays, kQuadrature, kClumped };
+// cube (own_cube.h; docs/pcb.md, "The own cube").
+enum class LvoxelOwnCube { kRays, kQuadrature };
 // The extinction each lvoxel's cube gets: its cell's mean, or the mean scaled so that the
 // cube lets through, along its sides, what the medium does on average (lvoxel_sampler.h;
 // docs/pcb.md, "Lvoxels that keep the cell's transmittance").
@@ -67,7 +65,7 @@ struct PointCloudSettings {
   // lvoxelGatherSamples rays and short ones in their strata (docs/pcb.md, "The near field").
   int lvoxelNearSamples = 64;
   float lvoxelNearReach = 2.0f;  // lvoxel cube sides; 0: no near field of its own
-  LvoxelOwnCube lvoxelOwnCube = LvoxelOwnCube::kClumped;
+  LvoxelOwnCube lvoxelOwnCube = LvoxelOwnCube::kQuadrature;
   int bounces = 64;  // interreflection passes (surfels and lvoxels), at most
   // Fewer passes once the light they would still add, estimated from how the last ones
   // shrank, is below this share of the cloud's; 0: always `bounces` (docs/pcb.md, "How

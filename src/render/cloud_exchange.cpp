@@ -11,14 +11,13 @@ namespace {
 // The fields of a surfel slice, in this order; change it with the fields.
 constexpr uint32_t kSurfelLayout = 1;
 // The fields of a rank's lvoxels: per medium its grid, then its arrays.
-constexpr uint32_t kLvoxelLayout = 3;
+constexpr uint32_t kLvoxelLayout = 2;
 
 struct LvoxelShare {
   LvoxelGrid grid;
   std::vector<Vec3> position;
   std::vector<float> halfSize;
   std::vector<RGB> sigmaA, sigmaS, emission;  // emission: empty when the medium emits not
-  std::vector<RGB> clumping;                  // empty when not estimated
   std::vector<int64_t> cell;
 };
 
@@ -117,7 +116,6 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
     w.array(l.sigmaA);
     w.array(l.sigmaS);
     w.array(l.emission);
-    w.array(l.clumping);
     std::vector<int64_t> cells(l.size());
     for (size_t i = 0; i < l.size(); ++i) cells[i] = l.light.cellOfSlot(l.slot[i]);
     w.array(cells);
@@ -141,12 +139,10 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
       reader.array(s.sigmaA, "lvoxel sigma_a");
       reader.array(s.sigmaS, "lvoxel sigma_s");
       reader.array(s.emission, "lvoxel emission");
-      reader.array(s.clumping, "lvoxel clumping");
       reader.array(s.cell, "lvoxel cells");
       const size_t n = s.position.size();
       if (s.halfSize.size() != n || s.sigmaA.size() != n || s.sigmaS.size() != n ||
-          s.cell.size() != n || (!s.emission.empty() && s.emission.size() != n) ||
-          (!s.clumping.empty() && s.clumping.size() != n))
+          s.cell.size() != n || (!s.emission.empty() && s.emission.size() != n))
         throw std::runtime_error("the lvoxels received from " + from +
                                  ": arrays of different lengths");
       if (n > 0 && !(s.grid == shares[m].light.grid()) && shares[m].size() > 0)
@@ -185,17 +181,12 @@ std::vector<LvoxelSet> allgatherLvoxels(const std::vector<LvoxelSet>& shares, Co
         out.emission.resize(out.position.size() - 1, RGB(0.0f));
         out.emission.push_back(s.emission[i]);
       }
-      if (!s.clumping.empty()) {
-        out.clumping.resize(out.position.size() - 1, RGB(0.0f));
-        out.clumping.push_back(s.clumping[i]);
-      }
       if (s.cell[i] < 0 || static_cast<double>(s.cell[i]) >= s.grid.cellCount())
         throw std::runtime_error("the lvoxels received from rank " + std::to_string(best) +
                                  ": cell " + std::to_string(s.cell[i]) + " outside the grid");
       out.slot.push_back(out.light.occupy(static_cast<long>(s.cell[i])));
     }
     if (!out.emission.empty()) out.emission.resize(out.position.size(), RGB(0.0f));
-    if (!out.clumping.empty()) out.clumping.resize(out.position.size(), RGB(0.0f));
   }
   return whole;
 }

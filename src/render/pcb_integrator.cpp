@@ -378,8 +378,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     const bool directional = settings.bounces > 0 && anisotropicLvoxels(volume.media());
     lvoxels = sampleSceneLvoxels(volume.media(),
                                  lvoxelSpacing(settings.lvoxelSpacing, volume.media(), sceneFile),
-                                 settings.lvoxelSamples, settings.lvoxelExtinction,
-                                 settings.lvoxelOwnCube == LvoxelOwnCube::kClumped, seed,
+                                 settings.lvoxelSamples, settings.lvoxelExtinction, seed,
                                  ctx.lights, directional, team, &sampled);
     report.work["lvoxels_sampled"] += sampled;
     // Media whose coefficients average to zero everywhere give no lvoxels: nothing is
@@ -430,7 +429,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     lvoxelOptions.nearSamples = settings.lvoxelNearSamples;
     lvoxelOptions.nearReach =
         settings.lvoxelNearReach * cache.cloud->lvoxels().light.grid().spacing;
-    lvoxelOptions.ownCubeQuadrature = settings.lvoxelOwnCube != LvoxelOwnCube::kRays;
+    lvoxelOptions.ownCubeQuadrature = settings.lvoxelOwnCube == LvoxelOwnCube::kQuadrature;
     std::function<void(uint64_t)> reserve;
     if (ctx.budget)
       reserve = [&](uint64_t bytes) {

@@ -101,14 +101,12 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 }
 
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             LvoxelExtinction extinction, bool ownClumping, uint64_t seed,
-                             const LightSet& lights, bool directional, Collective& team,
-                             size_t* sampled) {
+                             LvoxelExtinction extinction, uint64_t seed, const LightSet& lights,
+                             bool directional, Collective& team, size_t* sampled) {
   LvoxelSettings settings;
   settings.spacing = spacing;
   settings.samplesPerAxis = samplesPerAxis;
   settings.keepTransmittance = extinction == LvoxelExtinction::kTransmittance;
-  settings.ownClumping = ownClumping;
   settings.seed = seed;
   settings.sliceIndex = team.rank();
   settings.sliceCount = team.size();

@@ -41,12 +41,11 @@ float lvoxelSpacing(float requested, const MediaSet& media, const std::string& s
 // receives the number of lvoxels this rank sampled. `directional`: the lvoxels scatter
 // with their media's phases (anisotropicLvoxels, and a cloud that carries multiple
 // scattering: without it the lvoxels hold the exact single scattering). `extinction`:
-// the cubes' (pointcloud.lvoxel_extinction). `ownClumping`: estimate each cube's
-// LvoxelSet::clumping (pointcloud.lvoxel_own_cube "clumped").
+// the cubes' (pointcloud.lvoxel_extinction).
 LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPerAxis,
-                             LvoxelExtinction extinction, bool ownClumping, uint64_t seed,
-                             const LightSet& lights, bool directional,
-                             Collective& team = singleProcess(), size_t* sampled = nullptr);
+                             LvoxelExtinction extinction, uint64_t seed, const LightSet& lights,
+                             bool directional, Collective& team = singleProcess(),
+                             size_t* sampled = nullptr);
 
 // Fills every occupied cell with its direct light (see above). Over several ranks
 // (`team`), the cells go in blocks of kLvoxelDirectBlock, block b on rank b mod N, and the

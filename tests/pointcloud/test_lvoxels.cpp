@@ -8,8 +8,6 @@
 #include "pointcloud/lvoxel_sampler.h"
 #include "pointcloud/scenes.h"
 #include "pointcloud/surfel_lookup.h"
-#include "src/core/rng.h"
-#include "src/core/sampling.h"
 
 namespace lvox {
 namespace {
@@ -173,84 +171,6 @@ TEST(Lvoxels, HomogeneousCellsKeepTheirMeanExtinction) {
     EXPECT_NEAR(l.sigmaA[i].z, 2.0f, 1e-5f);
     EXPECT_NEAR(l.sigmaS[i].y, 3.0f, 3e-5f);
   }
-}
-
-// A homogeneous cell's medium is as clumped as its cube: no excess coupling (the same
-// paths give both terms, so to float rounding).
-TEST(Lvoxels, HomogeneousCellsHaveNoClumping) {
-  const test::BoxMedium m(Vec3(0, 0, 0), Vec3(1, 1, 1), RGB(0.5f, 1.0f, 2.0f), RGB(3.0f));
-  const LvoxelSet l = sampleLvoxels(m, {0.125f});
-  ASSERT_EQ(l.clumping.size(), l.size());
-  for (const RGB& c : l.clumping)
-    EXPECT_LT(maxComponent(RGB(std::abs(c.x), std::abs(c.y), std::abs(c.z))), 1e-5f);
-}
-
-// Medium in the low octant of every cell of side `cell` (sigma_s `density` there), none in
-// the rest: each cube stands for a clump an eighth of its size.
-struct CornerClumps {
-  float cell;
-  float density;
-  std::vector<Bounds3> active{Bounds3{Vec3(0.0f), Vec3(1.0f)}};
-  Bounds3 bounds() const { return active[0]; }
-  const std::vector<Bounds3>& activeBoxes() const { return active; }
-  bool inside(const Vec3& p) const {
-    for (int a = 0; a < 3; ++a) {
-      const float f = p[a] / cell - std::floor(p[a] / cell);
-      if (!(f < 0.5f) || p[a] < 0.0f || p[a] >= 1.0f) return false;
-    }
-    return true;
-  }
-  void coefficients(const Vec3& p, RGB& a, RGB& s) const {
-    a = RGB(0.0f);
-    s = RGB(inside(p) ? density : 0.0f);
-  }
-};
-
-// The distance from p (inside the axis-aligned box [lo, hi]) to its boundary along w.
-float exitDistance(const Vec3& p, const Vec3& w, const Vec3& lo, const Vec3& hi) {
-  float t = kInf;
-  for (int a = 0; a < 3; ++a)
-    if (w[a] != 0.0f) t = std::min(t, ((w[a] > 0.0f ? hi[a] : lo[a]) - p[a]) / w[a]);
-  return t;
-}
-
-// The excess coupling of clumps against the exact one: for points uniform in a clump (it
-// is homogeneous) and uniform directions, E[exp(-sigma' d_cell)] - E[exp(-density d_clump)]
-// with d the exact distances to the cell's and the clump's boundaries and sigma' the
-// cube's extinction; 65,536 such paths against the sampler's 2 per cube (its stratum of
-// the clump) over 4,096 cubes. The clump's side is half an optical depth, so the
-// exponentials matter.
-TEST(Lvoxels, ClumpingMatchesTheExactExcessOfCornerClumps) {
-  const float cell = 1.0f / 16.0f;
-  const CornerClumps m{cell, 16.0f};
-  const LvoxelSet l = sampleLvoxels(m, {cell});
-  ASSERT_EQ(l.size(), 4096u);
-  ASSERT_EQ(l.clumping.size(), l.size());
-  Rng rng(7, 3);
-  std::vector<float> dCell, dClump;
-  for (int k = 0; k < 65536; ++k) {
-    const Vec3 p(rng.uniform() * 0.5f * cell, rng.uniform() * 0.5f * cell,
-                 rng.uniform() * 0.5f * cell);
-    const Vec3 w = uniformSphere(rng.uniform(), rng.uniform());
-    dCell.push_back(exitDistance(p, w, Vec3(0.0f), Vec3(cell)));
-    dClump.push_back(exitDistance(p, w, Vec3(0.0f), Vec3(0.5f * cell)));
-  }
-  double clumped = 0.0;
-  for (float d : dClump) clumped += std::exp(-16.0 * d);
-  clumped /= static_cast<double>(dClump.size());
-  double sampled = 0.0, exact = 0.0;
-  for (size_t i = 0; i < l.size(); ++i) {
-    const double sigma = l.sigmaT(i).x;
-    sampled += l.clumping[i].x * sigma * cell;
-    double cube = 0.0;
-    for (size_t k = 0; k < dCell.size(); k += 16) cube += std::exp(-sigma * dCell[k]);
-    exact += cube / static_cast<double>(dCell.size() / 16) - clumped;
-  }
-  sampled /= static_cast<double>(l.size());
-  exact /= static_cast<double>(l.size());
-  std::printf("clumps' excess coupling: sampled %.5f, exact %.5f\n", sampled, exact);
-  EXPECT_GT(exact, 0.05);  // the clumps couple to themselves far more than their cube does
-  EXPECT_NEAR(sampled, exact, 0.05 * exact);
 }
 
 // A ball of homogeneous medium: its lvoxels fill the octree's cells only partly.

@@ -134,44 +134,5 @@ TEST(OwnCube, GatherWithItsOwnCubeFromTheQuadratureHasTheRaysExpectation) {
   EXPECT_EQ(gather(true, false), gather(false, false));
 }
 
-// A clumped cube's excess coupling (LvoxelSet::clumping) moves light between the cube and
-// the outside: the own cube's part grows by the excess and the rest shrinks by 1 - excess /
-// (1 - own weight), to float rounding; in a furnace, where the cube glows as everything
-// else does, the two cancel and the gather stays at the glow within the rays' noise
-// (4,096 rays: their mean transmittance out of the cube is 1 - own weight within 5e-4).
-TEST(OwnCube, ClumpingMovesLightBetweenTheCubeAndOutsideAndKeepsAFurnace) {
-  uint32_t own = 0;
-  PointCloud cloud = glowingBox(own);
-  const TriangleMesh none;
-  const RayTracer tracer(none);
-  auto gather = [&](const RGB& background) {
-    GatherOptions o;
-    o.samples = 4096;
-    o.tracer = &tracer;
-    o.ownLvoxel = static_cast<long>(own);
-    o.background = background;
-    Rng rng(1, 2);
-    return static_cast<double>(gatherInScatter(cloud, cloud.lvoxels().position[own], Vec3(0, 0, 1),
-                                               IsotropicPhase{}, o, rng)
-                                   .x);
-  };
-  const RGB glow = cloud.lvoxels().sourceRadiance(own);  // 0.95: sigma_s / sigma_t
-  const double furnace = gather(glow), dark = gather(RGB(0.0f));
-  LvoxelSet& lvoxels = cloud.mutableLvoxels();
-  lvoxels.clumping.assign(lvoxels.size(), RGB(0.0f));
-  lvoxels.clumping[own] = RGB(0.4f);  // excess 0.4 x sigma_t 5 x side 0.2 = 0.4
-  const double clumpedFurnace = gather(glow), clumpedDark = gather(RGB(0.0f));
-  const OwnCubeWeights w = ownCubeWeights(lvoxels.sigmaT(own), lvoxels.halfSize[own]);
-  const double self = 6.0 * w.axis.x + 8.0 * w.corner.x;
-  const double outside = dark - self * glow.x;
-  const double expected = (self + 0.4) * glow.x + outside * (1.0 - 0.4 / (1.0 - self));
-  std::printf("furnace %.6f -> %.6f; dark %.6f -> %.6f (expected %.6f; own weight %.4f)\n", furnace,
-              clumpedFurnace, dark, clumpedDark, expected, self);
-  EXPECT_NEAR(clumpedDark, expected, 1e-5);
-  EXPECT_GT(std::abs(clumpedDark - dark), 1e-3);  // it did move light
-  EXPECT_NEAR(furnace, glow.x, 5e-4);
-  EXPECT_NEAR(clumpedFurnace, glow.x, 5e-4);
-}
-
 }  // namespace
 }  // namespace lvox

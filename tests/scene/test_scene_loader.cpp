@@ -168,10 +168,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
   };
   expectChoice("lvoxel_light_blend", &PointCloudSettings::lvoxelLightBlend,
                LvoxelLightBlend::kExponential, "linear", LvoxelLightBlend::kLinear, "cubic");
-  expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kClumped,
+  expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kQuadrature,
                "rays", LvoxelOwnCube::kRays, "exact");
-  expectChoice("lvoxel_own_cube", &PointCloudSettings::lvoxelOwnCube, LvoxelOwnCube::kClumped,
-               "quadrature", LvoxelOwnCube::kQuadrature, "homogeneous");
   expectChoice("lvoxel_extinction", &PointCloudSettings::lvoxelExtinction,
                LvoxelExtinction::kTransmittance, "mean", LvoxelExtinction::kMean, "median");
   expectChoice("camera_shadow_rays", &PointCloudSettings::cameraShadowRays,
