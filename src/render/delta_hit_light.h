@@ -1,9 +1,10 @@
 #pragma once
 // The point, spot and directional lights' light at pcb's traced gather hits
-// (pointcloud/gather.h, SurfaceHitLight): exact shadow rays, and the transmittance through
-// the media or through the lvoxels' cubes, at the hit itself, with the albedo under it. With
-// `"gather_visibility": "rays"` the surfels then cache the other lights' light only (docs/pcb.md: a
-// delta light's shadow edges are sharper than the surfel spacing).
+// (pointcloud/gather.h, SurfaceHitLight): exact shadow rays, and the transmittance
+// through the media or through the lvoxels' cubes, at the hit itself, with the albedo
+// under it. With `"gather_visibility": "rays"` the surfels then cache the other lights'
+// light only (docs/pcb.md: a delta light's shadow edges are sharper than the surfel
+// spacing).
 #include <tbb/combinable.h>
 
 #include <cstdint>
