@@ -259,6 +259,17 @@ void removeBuried(const RenderContext& ctx, float reach, SurfelSet& surfels, Col
 // Direct light on surfels (exact shadow rays, transmittance through the media) and on
 // lvoxel cells (their light, pcb_media.h), each with its own number of area-light and sky
 // samples (pointcloud.surfel_light_samples and lvoxel_light_samples).
+// The cloud whose lvoxels' cubes the shadow rays of the indirect light cross
+// (pointcloud.indirect_shadow_media), or null for the media themselves. The cubes hold
+// the media as the cloud's light sees them: reduced where the lvoxels are directional,
+// as cache.reducedShadows asks of the media's own shadow rays.
+const PointCloud* indirectShadowCubes(const PointBasedCache& cache,
+                                      const PointCloudSettings& settings) {
+  return cache.lvoxels && settings.indirectShadowMedia == IndirectShadowMedia::kCubes
+             ? cache.cloud.get()
+             : nullptr;
+}
+
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
                  const PointCloudSettings& settings, PointBasedCache& cache,
                  rte::SolveCounts& counts, Collective& team, Report& report) {
@@ -277,6 +288,7 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
   }
   const LightSet surfelLights(ctx.world, settings.surfelLightSamples);
   const RenderContext surfelCtx = withSamples(surfelLights);
+  const PointCloud* cubes = indirectShadowCubes(cache, settings);
   tbb::combinable<rte::SolveCounts> perThread;
   cacheDirectLight(
       cloud,
@@ -289,14 +301,10 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
                 (static_cast<uint64_t>(q.index) << 1) |
                     (dot(q.normal, cloud.surfels().normal(q.index)) < 0));
         rte::SolveCounts& local = perThread.local();
-        // The cubes hold the media as the cloud's light sees them (reduced where the
-        // lvoxels are directional, as cache.reducedShadows asks).
-        const bool cubes =
-            cache.lvoxels && settings.indirectShadowMedia == IndirectShadowMedia::kCubes;
         auto throughMedia = [&](const Ray& shadow) {
           if (cubes) {
             thread_local TraversalScratch scratch;
-            return cubeTransmittance(cloud, shadow, scratch);
+            return cubeTransmittance(*cubes, shadow, scratch);
           }
           return volume.transmittance(shadow, local, cache.reducedShadows);
         };
@@ -402,11 +410,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
       }
       buildHitSurfels(ctx, settings, spacing, sceneFile, cache);
       if (!ctx.lights.lights().empty())
-        cache.hitLight = std::make_unique<DeltaHitLight>(
-            ctx, volume, cache.reducedShadows,
-            cache.lvoxels && settings.indirectShadowMedia == IndirectShadowMedia::kCubes
-                ? cache.cloud.get()
-                : nullptr);
+        cache.hitLight = std::make_unique<DeltaHitLight>(ctx, volume, cache.reducedShadows,
+                                                         indirectShadowCubes(cache, settings));
       cache.environmentInGathers = !isBlack(ctx.lights.environment());
       cache.surfelEnvironmentInGathers = cache.environmentInGathers && settings.bounces > 0;
     }
