@@ -39,7 +39,9 @@ class SurfaceTextures {
   // a point lookup at the finest level). Integer images are sRGB-encoded, float images
   // linear; the result is linear, times the material's albedo factor.
   RGB albedo(uint32_t triangle, float b1, float b2, const Vec3& dpdx, const Vec3& dpdy) const;
-  // Albedo averaged over a disk of `radius` around the point (a surfel's footprint).
+  // Albedo averaged over the part of a disk of `radius` around the point (a surfel's
+  // footprint) that lies on the triangle, in linear light: the mean of decoded point
+  // lookups, where albedo() over a footprint decodes the mean of the encoded texels.
   RGB albedoOverDisk(uint32_t triangle, float b1, float b2, float radius) const;
   // Whether the point at barycentrics (b1, b2) of a triangle with a cut-out is a hole.
   bool isCutAway(uint32_t triangle, float b1, float b2) const;
