@@ -231,6 +231,20 @@ struct WholeSurface {
   float operator()(const Ray&, const SurfaceHit&) const { return 1.0f; }
 };
 
+// Where a traced gather ray starts. Off a receiver's surface (irradiance gathers): the
+// origin is lifted along the normal (liftedOrigin) and every surface beyond it counts,
+// however close. Until stop 51 those rays started on the surface and skipped a few
+// epsilons along the ray, which let a receiver within that of an adjoining surface see
+// through it: a lattice row of surfels 4e-5 above a floor, along a wall's foot, saw the
+// sky below it with every ray aimed down. In a medium (lvoxel gathers, single rays):
+// surfaces within a few epsilons of the origin are skipped.
+enum class RayStart { kInMedium, kOffSurface };
+
+// The lift: the shadow rays' (RenderContext::spawn) four times over.
+inline Vec3 liftedOrigin(const Vec3& p, const Vec3& n, const GatherOptions& options) {
+  return options.tracesSurfaces() ? p + n * (4.0f * options.tracer->epsilon()) : p;
+}
+
 // One gather ray, weighted by `scale`, into the sink; the background is added behind
 // unoccluded media. With traced visibility the surface it reaches counts `share(ray, hit)`
 // of that weight (a multiple importance weight); a sink of the surface's light alone skips
@@ -238,7 +252,7 @@ struct WholeSurface {
 template <class Sink, class Share = WholeSurface>
 void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions& options,
                     float scale, TraversalScratch& scratch, Sink& sink, NearField near = {},
-                    long own = -1, const Share& share = {}) {
+                    long own = -1, const Share& share = {}, RayStart start = RayStart::kInMedium) {
   sink.beginRay(ray.dir);
   GatherRayWeights<Sink> weights{cloud, sink, scale, options.minTransmittance, near};
   weights.own = own;
@@ -249,9 +263,8 @@ void traceGatherRay(const PointCloud& cloud, const Ray& ray, const GatherOptions
     weights.tracer = options.tracer;
     weights.origin = ray.origin;
     weights.direction = ray.dir;
-    // The receiver sits on a real surface: a few epsilons keep it from hitting itself.
     Ray traced = ray;
-    traced.tmin = 4.0f * options.tracer->epsilon();
+    traced.tmin = start == RayStart::kOffSurface ? 0.0f : 4.0f * options.tracer->epsilon();
     SurfaceHit hit;
     const bool hitSurface = options.tracer->intersect(traced, hit);
     const float surfaceShare = hitSurface ? share(ray, hit) : 0.0f;
@@ -362,6 +375,10 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
   int rows, cols;
   strataGrid(options.samples - lightRays, rows, cols);
   const Frame frame(n);
+  // Traced rays leave from just off the surface; rays through the cloud alone from the
+  // surface, past `rayOffset`.
+  const Vec3 origin = liftedOrigin(p, n, options);
+  const float tmin = options.tracesSurfaces() ? 0.0f : options.rayOffset;
   const float scale = kPi / static_cast<float>(rows * cols);
   mis.cosineRays = static_cast<float>(rows * cols);
   mis.lightRays = static_cast<float>(lightRays);
@@ -375,11 +392,13 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
       }
       const float u1 = (static_cast<float>(r) + j1) / static_cast<float>(rows);
       const float u2 = (static_cast<float>(c) + j2) / static_cast<float>(cols);
-      const Ray ray{p, frame.toWorld(cosineHemisphere(u1, u2)), options.rayOffset, kInf};
+      const Ray ray{origin, frame.toWorld(cosineHemisphere(u1, u2)), tmin, kInf};
       if (aimed)
-        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis});
+        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis},
+                       RayStart::kOffSurface);
       else
-        traceGatherRay(cloud, ray, options, scale, scratch, sink);
+        traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, WholeSurface{},
+                       RayStart::kOffSurface);
     }
   if (!aimed) return;
   SurfaceLightSink<Sink> surfaceLight{sink};
@@ -389,7 +408,7 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
     const float u1 = (static_cast<float>(k) + rng.uniform()) / static_cast<float>(lightRays);
     const float u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform();
     const GatherLightCells::Sample y = options.lights->sample(mis.view, u1, u2, u3, u4);
-    Vec3 dir = y.point - p;
+    Vec3 dir = y.point - origin;
     const float distance = length(dir);
     if (!(distance > 0.0f) || !(y.pdfArea > 0.0f)) continue;
     dir = dir / distance;
@@ -399,8 +418,8 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
     const float pl = static_cast<float>(lightRays) * y.pdfArea * distance * distance / cosAtY;
     const float weight = cosine / (mis.cosineDensity(cosine) + pl);
     if (!std::isfinite(weight)) continue;
-    traceGatherRay(cloud, Ray{p, dir, options.rayOffset, kInf}, options, weight, scratch,
-                   surfaceLight, {}, -1, LightRayShare{y.triangle, distance});
+    traceGatherRay(cloud, Ray{origin, dir, tmin, kInf}, options, weight, scratch, surfaceLight, {},
+                   -1, LightRayShare{y.triangle, distance}, RayStart::kOffSurface);
   }
 }
 

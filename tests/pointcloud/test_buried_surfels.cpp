@@ -188,6 +188,37 @@ TEST(GatherVisibility, RayTracedGathersSeeTheRealSurfaces) {
   }
 }
 
+TEST(GatherVisibility, ReceiversAtAWallsFootDoNotSeeThroughTheFloor) {
+  // A closed unit box under a sky of radiance 1, its walls black: every gather inside sees
+  // walls only, so its irradiance is exactly 0. Receivers on a wall a few 1e-5 above the
+  // floor, on the floor as close to a wall, and in a corner: the hex lattice puts whole
+  // rows of surfels that close to an edge it runs along (in the sunlit gallery 4e-5 above
+  // the floor, all along the window wall). Rays that started on the surface and skipped 4
+  // tracer epsilons along the ray (8e-5 here) passed through the floor when aimed down
+  // and saw the sky: the gallery's sky-lit indirect light was 4 % too bright.
+  TriangleMesh mesh;
+  test::addBox(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), 0);
+  const RayTracer tracer(mesh);
+  PointCloud pc(sampleSurfelsUniform(mesh, {Material{}}, {0.1f, 1.15f, 5}), {});
+  cacheDirectLight(
+      pc, [](const SurfelLightQuery&) { return RGB(0.0f); },
+      [](const LvoxelLightQuery&) { return RGB(0.0f); });
+  const SurfelLookup lookup(pc.surfels(), 0.1f);
+  GatherOptions o;
+  o.samples = 64;
+  o.tracer = &tracer;
+  o.lookup = &lookup;
+  o.background = RGB(1.0f);
+  ASSERT_GT(4.0f * tracer.epsilon(), 5e-5f);
+  Rng rng(4, 2);
+  for (float h : {0.0f, 1e-5f, 4e-5f}) {
+    const float z = 0.3f + h * 1000.0f;
+    EXPECT_EQ(gatherIrradiance(pc, Vec3(0, h, z), Vec3(1, 0, 0), o, rng).x, 0.0f) << h;
+    EXPECT_EQ(gatherIrradiance(pc, Vec3(h, 0, z), Vec3(0, 1, 0), o, rng).x, 0.0f) << h;
+    EXPECT_EQ(gatherIrradiance(pc, Vec3(h, h, h), normalize(Vec3(1, 1, 1)), o, rng).x, 0.0f) << h;
+  }
+}
+
 TEST(GatherVisibility, NearestSurfelBelongsToTheSurfaceHit) {
   // A slab 0.05 thick, much thinner than the spacing (0.2): a point on its bottom face must
   // get a bottom surfel (normal -y), never one of the top face just above it.
