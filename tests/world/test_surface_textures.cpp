@@ -22,8 +22,20 @@ float srgbByteToLinear(int b) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
 
+// The quad [0, 1]^2 (z = 0) with texture coordinates equal to (x, y), of the material `mtl`
+// (whose maps the caller has written into dir).
+World quadOf(const fs::path& dir, const std::string& mtl) {
+  writeFile(dir / "q.mtl", "newmtl m\n" + mtl);
+  writeFile(dir / "q.obj",
+            "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+            "usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
+  World world;
+  loadObj((dir / "q.obj").string(), "file", Transform{}, std::nullopt, world);
+  return world;
+}
+
 // A 4 x 4 PNG whose texel (x, y) (row y from the top) has red 60 x + 10 and green 60 y + 10,
-// on the quad [0, 1]^2 (z = 0) with texture coordinates equal to (x, y).
+// on the quad.
 World texturedQuad(const fs::path& dir, const std::string& extraMtl = "") {
   std::vector<uint8_t> rgb(4 * 4 * 3);
   for (int y = 0; y < 4; ++y)
@@ -33,13 +45,7 @@ World texturedQuad(const fs::path& dir, const std::string& extraMtl = "") {
       rgb[3 * (4 * y + x) + 2] = 0;
     }
   writePngRgb8((dir / "t.png").string(), 4, 4, rgb);
-  writeFile(dir / "q.mtl", "newmtl m\nKd 0.2 0.2 0.2\nmap_Kd t.png\n" + extraMtl);
-  writeFile(dir / "q.obj",
-            "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-            "usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
-  World world;
-  loadObj((dir / "q.obj").string(), "file", Transform{}, std::nullopt, world);
-  return world;
+  return quadOf(dir, "Kd 0.2 0.2 0.2\nmap_Kd t.png\n" + extraMtl);
 }
 
 // The triangle of the quad holding point (x, y) and the barycentrics there.
@@ -87,8 +93,8 @@ TEST(SurfaceTextures, FilteredLookupBlendsNeighboursAndAveragesWideFootprints) {
   EXPECT_NEAR(got.y, srgbByteToLinear(100), 0.02f);
 }
 
-// The unit quad of texturedQuad with a size x size grey PNG whose texel (x, y) is white
-// where white(x, y), else black.
+// A size x size grey PNG whose texel (x, y) is white where white(x, y), else black, on the
+// quad.
 template <class White>
 World twoToneQuad(const fs::path& dir, int size, White&& white) {
   std::vector<uint8_t> rgb(static_cast<size_t>(size * size * 3));
@@ -97,13 +103,7 @@ World twoToneQuad(const fs::path& dir, int size, White&& white) {
       for (int c = 0; c < 3; ++c)
         rgb[static_cast<size_t>(3 * (size * y + x) + c)] = white(x, y) ? 255 : 0;
   writePngRgb8((dir / "t.png").string(), size, size, rgb);
-  writeFile(dir / "q.mtl", "newmtl m\nKd 1 1 1\nmap_Kd t.png\n");
-  writeFile(dir / "q.obj",
-            "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-            "usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
-  World world;
-  loadObj((dir / "q.obj").string(), "file", Transform{}, std::nullopt, world);
-  return world;
+  return quadOf(dir, "Kd 1 1 1\nmap_Kd t.png\n");
 }
 
 // A surfel's albedo is the mean reflectance over its disk, in linear light. On a
