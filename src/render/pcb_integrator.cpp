@@ -256,9 +256,6 @@ void removeBuried(const RenderContext& ctx, float reach, SurfelSet& surfels, Col
   report.add("buried_surfels", removeEnclosedSurfels(surfels));
 }
 
-// Direct light on surfels (exact shadow rays, transmittance through the media) and on
-// lvoxel cells (their light, pcb_media.h), each with its own number of area-light and sky
-// samples (pointcloud.surfel_light_samples and lvoxel_light_samples).
 // The cloud whose lvoxels' cubes the shadow rays of the indirect light cross
 // (pointcloud.indirect_shadow_media), or null for the media themselves. The cubes hold
 // the media as the cloud's light sees them: reduced where the lvoxels are directional,
@@ -270,6 +267,9 @@ const PointCloud* indirectShadowCubes(const PointBasedCache& cache,
              : nullptr;
 }
 
+// Direct light on surfels (exact shadow rays, transmittance through the media or the
+// cubes) and on lvoxel cells (their light, pcb_media.h), each with its own number of
+// area-light and sky samples (pointcloud.surfel_light_samples and lvoxel_light_samples).
 void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
                  const PointCloudSettings& settings, PointBasedCache& cache,
                  rte::SolveCounts& counts, Collective& team, Report& report) {

@@ -121,23 +121,23 @@ RGB SurfaceTextures::albedoOverDisk(uint32_t tri, float b1, float b2, float radi
   // on average; docs/pcb.md, "A surfel's albedo"). A spiral of kDiskSamples points covers
   // the disk evenly; those off the triangle are skipped, since its texture coordinates
   // mean nothing there (an atlas).
-  const Vec3 p0 = world_.mesh.vertex(tri, 0);
-  const Vec3 e1 = world_.mesh.vertex(tri, 1) - p0, e2 = world_.mesh.vertex(tri, 2) - p0;
-  const Vec3 s = normalize(e1), t = normalize(cross(cross(e1, e2), e1));
-  const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
-  const float det = d11 * d22 - d12 * d12;
+  const TriangleMesh& mesh = world_.mesh;
+  const Vec3 p0 = mesh.vertex(tri, 0);
+  const Vec3 e1 = mesh.vertex(tri, 1) - p0, e2 = mesh.vertex(tri, 2) - p0;
+  const Vec3 normal = cross(e1, e2);
   const Vec3 point(0.0f);  // no footprint: the finest level
+  if (!(dot(normal, normal) > 0.0f)) return albedo(tri, b1, b2, point, point);
+  const Vec3 s = normalize(e1), t = normalize(cross(normal, e1));
+  const Vec3 centre = p0 + e1 * b1 + e2 * b2;
   RGB sum(0.0f);
   int inside = 0;
-  for (int k = 0; k < kDiskSamples && det > 0.0f; ++k) {
+  for (int k = 0; k < kDiskSamples; ++k) {
     const float r = radius * std::sqrt((static_cast<float>(k) + 0.5f) / kDiskSamples);
     const float phi = kGoldenAngle * static_cast<float>(k);
-    const Vec3 d = s * (r * std::cos(phi)) + t * (r * std::sin(phi));
-    // d = e1 a + e2 b in the plane (least squares, as uvDelta).
-    const float r1 = dot(d, e1), r2 = dot(d, e2);
-    const float a = b1 + (d22 * r1 - d12 * r2) / det, b = b2 + (d11 * r2 - d12 * r1) / det;
-    if (a < 0.0f || b < 0.0f || a + b > 1.0f) continue;
-    sum += albedo(tri, a, b, point, point);
+    const Vec2 b =
+        mesh.barycentricOf(tri, centre + s * (r * std::cos(phi)) + t * (r * std::sin(phi)));
+    if (b.x < 0.0f || b.y < 0.0f || b.x + b.y > 1.0f) continue;
+    sum += albedo(tri, b.x, b.y, point, point);
     ++inside;
   }
   return inside > 0 ? sum / static_cast<float>(inside) : albedo(tri, b1, b2, point, point);
