@@ -136,7 +136,7 @@ RGB SurfaceTextures::albedoOverDisk(uint32_t tri, float b1, float b2, float radi
     const float phi = kGoldenAngle * static_cast<float>(k);
     const Vec2 b =
         mesh.barycentricOf(tri, centre + s * (r * std::cos(phi)) + t * (r * std::sin(phi)));
-    if (b.x < 0.0f || b.y < 0.0f || b.x + b.y > 1.0f) continue;
+    if (!(b.x >= 0.0f && b.y >= 0.0f && b.x + b.y <= 1.0f)) continue;  // NaN: off too
     sum += albedo(tri, b.x, b.y, point, point);
     ++inside;
   }
