@@ -5,9 +5,13 @@
 
 #include "src/core/check.h"
 #include "src/core/error.h"
+#include "src/world/linear_texture_input.h"
 
 namespace lvox {
 namespace {
+
+// sRGB's 1/2, decoded: where a mask read from a decoded image cuts.
+constexpr float kDecodedHalf = 0.21404114f;
 
 OIIO::TextureSystem* textureSystem(void* p) { return static_cast<OIIO::TextureSystem*>(p); }
 
@@ -21,18 +25,13 @@ std::string firstLine(std::string s) {
 constexpr int kDiskSamples = 16;
 constexpr float kGoldenAngle = 2.39996323f;  // pi (3 - sqrt 5)
 
-float srgbToLinear(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
 }  // namespace
 
 struct SurfaceTextures::Texture {
   OIIO::TextureSystem::TextureHandle* handle = nullptr;
   int colorChannels = 3;  // 1 (grey) or 3
   int alphaChannel = 0;   // the channel a cut-out mask reads: alpha if there is one
-  bool srgb = true;       // integer images are sRGB-encoded
+  float cutBelow = 0.5f;  // a mask's value below which a point is a hole, as the mask reads it
 };
 
 void requireReadableTexture(const TextureFile& texture) {
@@ -49,22 +48,30 @@ SurfaceTextures::SurfaceTextures(const World& world, TextureFilter filter)
   // OpenImageIO's process-wide TextureSystem, never destroyed: Debian's OIIO 2.4
   // TextureSystem::destroy deletes through the wrong type (AddressSanitizer's
   // new-delete-type-mismatch), so a private system per render cannot be released cleanly.
-  // Each render re-reads its files (invalidate), so it sees them as they are now.
+  // Each render re-reads its files, so it sees them as they are now, and reads them through
+  // the reader that decodes sRGB-encoded images to linear light (linear_texture_input.h).
   OIIO::TextureSystem* ts = OIIO::TextureSystem::create(true);
   system_ = ts;
   ts->attribute("automip", 1);  // JPEG and PNG textures have no mip levels of their own
   OIIO::TextureSystem::Perthread* thread = ts->get_perthread_info();
-  for (const TextureFile& file : world.textures) {
-    ts->invalidate(OIIO::ustring(file.path));
+  std::vector<bool> albedoMap(world.textures.size(), false);
+  for (const Material& m : world.materials)
+    if (m.albedoMap >= 0) albedoMap[static_cast<size_t>(m.albedoMap)] = true;
+  for (size_t i = 0; i < world.textures.size(); ++i) {
+    const TextureFile& file = world.textures[i];
     auto t = std::make_unique<Texture>();
-    t->handle = ts->get_texture_handle(OIIO::ustring(file.path), thread);
     OIIO::ImageSpec spec;
-    if (!t->handle || !ts->get_imagespec(t->handle, thread, 0, spec))
+    if (!registerTexture(file.path, albedoMap[i]) ||
+        !(t->handle = ts->get_texture_handle(OIIO::ustring(file.path), thread)) ||
+        !ts->get_imagespec(t->handle, thread, 0, spec))
       throw InputError(file.namedBy, file.field,
                        "cannot read texture '" + file.path + "': " + firstLine(ts->geterror()));
     t->colorChannels = spec.nchannels >= 3 ? 3 : 1;
     t->alphaChannel = spec.alpha_channel >= 0 ? spec.alpha_channel : 0;
-    t->srgb = !spec.format.is_floating_point();
+    // A mask without alpha that is also an albedo map reads its decoded grey: the cut stays
+    // where the stored value is 1/2.
+    if (spec.alpha_channel < 0 && spec.get_int_attribute(kDecodedAttribute) != 0)
+      t->cutBelow = kDecodedHalf;
     handles_.push_back(std::move(t));
   }
 }
@@ -108,19 +115,16 @@ RGB SurfaceTextures::albedo(uint32_t tri, float b1, float b2, const Vec3& dpdx,
   ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, dx.x, dx.y, dy.x, dy.y,
               tex.colorChannels, out);
   if (tex.colorChannels == 1) out[1] = out[2] = out[0];
-  RGB c;
-  for (int k = 0; k < 3; ++k)
-    c[k] = tex.srgb ? srgbToLinear(out[k]) : std::clamp(out[k], 0.0f, 1.0f);
+  RGB c;  // linear light already (registerTexture)
+  for (int k = 0; k < 3; ++k) c[k] = std::clamp(out[k], 0.0f, 1.0f);
   return c * m.albedo;
 }
 
 RGB SurfaceTextures::albedoOverDisk(uint32_t tri, float b1, float b2, float radius) const {
-  // Point lookups, each decoded, averaged: OpenImageIO filters a footprint in the image's
-  // encoded values, and the sRGB decode of that mean is darker than the mean of the decoded
-  // texels (0.22 against 0.5 on a black and white checkerboard, 0.7 % on Sponza's surfels
-  // on average; docs/pcb.md, "A surfel's albedo"). A spiral of kDiskSamples points covers
-  // the disk evenly; those off the triangle are skipped, since its texture coordinates
-  // mean nothing there (an atlas).
+  // Point lookups averaged: a spiral of kDiskSamples points covers the disk evenly, and
+  // those off the triangle are skipped, since its texture coordinates mean nothing there
+  // (an atlas). Until stop 52 this was also what kept the average in linear light, when
+  // OpenImageIO's filters averaged encoded texels (docs/pcb.md, "A surfel's albedo").
   const TriangleMesh& mesh = world_.mesh;
   const Vec3 p0 = mesh.vertex(tri, 0);
   const Vec3 e1 = mesh.vertex(tri, 1) - p0, e2 = mesh.vertex(tri, 2) - p0;
@@ -158,7 +162,7 @@ bool SurfaceTextures::isCutAway(uint32_t tri, float b1, float b2) const {
   OIIO::TextureSystem* ts = textureSystem(system_);
   ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, 0.0f, 0.0f, 0.0f, 0.0f,
               1, &opacity);
-  return opacity < 0.5f;
+  return opacity < tex.cutBelow;
 }
 
 }  // namespace lvox

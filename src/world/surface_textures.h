@@ -37,11 +37,13 @@ class SurfaceTextures {
   // Albedo of a triangle with an albedo map, at barycentrics (b1, b2), averaged over the
   // footprint spanned by the world-space vectors dpdx and dpdy in its plane (zero vectors:
   // a point lookup at the finest level). Integer images are sRGB-encoded, float images
-  // linear; the result is linear, times the material's albedo factor.
+  // linear; either reaches the filter in linear light (linear_texture_input.h), and the
+  // result is linear, times the material's albedo factor.
   RGB albedo(uint32_t triangle, float b1, float b2, const Vec3& dpdx, const Vec3& dpdy) const;
   // Albedo averaged over the part of a disk of `radius` around the point (a surfel's
-  // footprint) that lies on the triangle, in linear light: the mean of decoded point
-  // lookups, where albedo() over a footprint decodes the mean of the encoded texels.
+  // footprint) that lies on the triangle: the mean of point lookups on a spiral over the
+  // disk, where albedo() over the disk's footprint would blend in what the texture holds off
+  // the triangle (an atlas's other surfaces).
   RGB albedoOverDisk(uint32_t triangle, float b1, float b2, float radius) const;
   // Whether the point at barycentrics (b1, b2) of a triangle with a cut-out is a hole.
   bool isCutAway(uint32_t triangle, float b1, float b2) const;

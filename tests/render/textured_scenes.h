@@ -62,6 +62,12 @@ inline void writeTexturePng(const fs::path& path, int w, int h, const std::vecto
   writePngRgb8(path.string(), w, h, rgb);
 }
 
+// The textures' decoded texels are stored as half floats (src/world/linear_texture_input.h):
+// each is rounded by at most 2^-11 of itself (half an ulp of an 11-bit significand, at the
+// bottom of its binade); bilinear blends of such texels keep that bound. 2^-10 leaves room
+// for the float arithmetic after the lookup.
+constexpr float kHalfRounding = 1.0f / 1024.0f;
+
 inline float srgbByteToLinear(uint8_t b) {
   const float v = static_cast<float>(b) / 255.0f;
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);

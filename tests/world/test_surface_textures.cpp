@@ -68,9 +68,11 @@ TEST(SurfaceTextures, NearestLookupReturnsTheTexelUnderThePoint) {
         Vec2 b;
         locate(world, u, v, tri, b);
         const RGB got = textures.albedo(tri, b.x, b.y, Vec3(0.0f), Vec3(0.0f));
-        // map_Kd replaces Kd: the texel itself, decoded from sRGB.
-        EXPECT_NEAR(got.x, srgbByteToLinear(60 * tx + 10), 1e-5f) << tx << "," << ty;
-        EXPECT_NEAR(got.y, srgbByteToLinear(60 * ty + 10), 1e-5f) << tx << "," << ty;
+        // map_Kd replaces Kd: the texel itself, decoded from sRGB (and stored as a half
+        // float: rounded by at most 2^-11 of itself).
+        const float red = srgbByteToLinear(60 * tx + 10), green = srgbByteToLinear(60 * ty + 10);
+        EXPECT_NEAR(got.x, red, red / 2048.0f) << tx << "," << ty;
+        EXPECT_NEAR(got.y, green, green / 2048.0f) << tx << "," << ty;
         EXPECT_EQ(got.z, 0.0f);
       }
 }
@@ -81,16 +83,20 @@ TEST(SurfaceTextures, FilteredLookupBlendsNeighboursAndAveragesWideFootprints) {
   uint32_t tri;
   Vec2 b;
   // Halfway between the centres of texels (1, 0) and (2, 0) the bilinear lookup is their
-  // mean (in the encoded values, which the sRGB decode follows).
+  // mean in linear light (0.142; the decoded mean of their encoded values 70 and 130 would
+  // be 0.127).
   locate(world, 0.5f, 1.0f - 0.125f, tri, b);
   RGB got = textures.albedo(tri, b.x, b.y, Vec3(0.0f), Vec3(0.0f));
-  EXPECT_NEAR(got.x, srgbByteToLinear(100), 2e-3f);
-  // A footprint as wide as the whole texture averages every red value (70, 100 in sRGB
-  // steps around the mean 100): well away from any single texel's.
+  const float blend = 0.5f * (srgbByteToLinear(70) + srgbByteToLinear(130));
+  EXPECT_NEAR(got.x, blend, blend / 2048.0f);
+  // A footprint as wide as the whole texture averages every red value in linear light
+  // (0.171; the decoded mean of the encoded values, 100, would be 0.127).
   locate(world, 0.5f, 0.5f, tri, b);
   got = textures.albedo(tri, b.x, b.y, Vec3(1.0f, 0, 0), Vec3(0, 1.0f, 0));
-  EXPECT_NEAR(got.x, srgbByteToLinear(100), 0.02f);
-  EXPECT_NEAR(got.y, srgbByteToLinear(100), 0.02f);
+  float mean = 0.0f;
+  for (int x = 0; x < 4; ++x) mean += 0.25f * srgbByteToLinear(60 * x + 10);
+  EXPECT_NEAR(got.x, mean, 0.02f);
+  EXPECT_NEAR(got.y, mean, 0.02f);
 }
 
 // A size x size grey PNG whose texel (x, y) is white where white(x, y), else black, on the
@@ -112,8 +118,9 @@ World twoToneQuad(const fs::path& dir, int size, White&& white) {
 // 0.22: on Sponza that made the surfels 0.7 % too dark, and the indirect light, where the
 // darkening compounds over the bounces, 0.8 %. 49 disks of radius 0.2 (about 30 squares of 32
 // texels each), 16 bilinear point lookups each: the points fall on white with probability 1/2, so
-// the mean of 784 has a standard deviation below 0.018; the texel-wide seams, where bilinear blends
-// the encoded values, darken it by about 0.016. So the mean is within 0.06 of 1/2.
+// the mean of 784 has a standard deviation below 0.018 (the texel-wide seams, where bilinear
+// blends black and white, in linear light since stop 52, average to 1/2 as well). So the mean is
+// within 0.06 of 1/2, 3.3 standard deviations.
 TEST(SurfaceTextures, AlbedoOverADiskIsTheMeanInLinearLight) {
   const World world =
       twoToneQuad(tempDir(), 512, [](int x, int y) { return (x / 32 + y / 32) % 2 == 0; });
@@ -136,11 +143,12 @@ TEST(SurfaceTextures, AlbedoOverADiskIsTheMeanInLinearLight) {
   Vec2 b;
   locate(world, 0.6f, 0.3f, tri, b);
   const float radius = 0.2f;
-  // What the surfels had: a filtered lookup (MIP levels), the decoded mean of the encoded
-  // texels.
-  const RGB before =
+  // A filtered lookup (MIP levels) over the disk's square: 1/2 as well, since the texture
+  // reaches OpenImageIO decoded (src/world/linear_texture_input.h). Until stop 52 it averaged
+  // the encoded texels and decoded their mean, 0.22.
+  const RGB filtered =
       textures.albedo(tri, b.x, b.y, Vec3(2.0f * radius, 0, 0), Vec3(0, 2.0f * radius, 0));
-  EXPECT_NEAR(before.x, srgbByteToLinear(128), 0.05f);
+  EXPECT_NEAR(filtered.x, 0.5f, 0.05f);
 }
 
 // Texture coordinates mean nothing off a triangle (an atlas packs other surfaces there), so
@@ -175,6 +183,30 @@ TEST(SurfaceTextures, CutoutMaskReadsItsFirstChannelAgainstOneHalf) {
   EXPECT_TRUE(textures.isCutAway(tri, b.x, b.y));
   locate(world, 0.8f, 0.3f, tri, b);
   EXPECT_FALSE(textures.isCutAway(tri, b.x, b.y));
+}
+
+// A mask's coverage is no light: an 8-bit mask is read as stored and cuts below 1/2 of its
+// range, whether or not the same image is also an albedo map (which reaches OpenImageIO
+// decoded, so its cut moves to the decoded 1/2). Grey 100 (0.39 as stored, 0.13 decoded)
+// is a hole, grey 140 (0.55, 0.26) is not; with the decoded values against 1/2 both would be.
+TEST(SurfaceTextures, EncodedMaskCutsWhereItsStoredValueIsOneHalf) {
+  for (const std::string mtl : {"Kd 1 1 1\nmap_d m.png\n", "map_Kd m.png\nmap_d m.png\n"}) {
+    const fs::path dir = tempDir();
+    std::vector<uint8_t> rgb(8 * 8 * 3);
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x)
+        for (int c = 0; c < 3; ++c)
+          rgb[static_cast<size_t>(3 * (8 * y + x) + c)] = x < 4 ? 100 : 140;
+    writePngRgb8((dir / "m.png").string(), 8, 8, rgb);
+    const World world = quadOf(dir, mtl);
+    const SurfaceTextures textures(world);
+    uint32_t tri;
+    Vec2 b;
+    locate(world, 0.2f, 0.7f, tri, b);
+    EXPECT_TRUE(textures.isCutAway(tri, b.x, b.y)) << mtl;
+    locate(world, 0.8f, 0.3f, tri, b);
+    EXPECT_FALSE(textures.isCutAway(tri, b.x, b.y)) << mtl;
+  }
 }
 
 }  // namespace
