@@ -115,8 +115,9 @@ RGB SurfaceTextures::albedo(uint32_t tri, float b1, float b2, const Vec3& dpdx,
   ts->texture(tex.handle, ts->get_perthread_info(), opt, uv.x, 1.0f - uv.y, dx.x, dx.y, dy.x, dy.y,
               tex.colorChannels, out);
   if (tex.colorChannels == 1) out[1] = out[2] = out[0];
-  RGB c;  // linear light already (registerTexture)
-  for (int k = 0; k < 3; ++k) c[k] = std::clamp(out[k], 0.0f, 1.0f);
+  // Linear light already (registerTexture). A float image's NaN reflects nothing.
+  RGB c;
+  for (int k = 0; k < 3; ++k) c[k] = out[k] > 0.0f ? std::min(out[k], 1.0f) : 0.0f;
   return c * m.albedo;
 }
 

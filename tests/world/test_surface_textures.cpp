@@ -209,5 +209,28 @@ TEST(SurfaceTextures, EncodedMaskCutsWhereItsStoredValueIsOneHalf) {
   }
 }
 
+// A float albedo map holds what it holds: a NaN texel reflects nothing, a negative one
+// nothing, one above 1 all (an albedo is within [0, 1]); no NaN reaches the light.
+TEST(SurfaceTextures, FloatTexelsOutsideZeroToOneAreClamped) {
+  const fs::path dir = tempDir();
+  // A PFM (little-endian floats, RGB, one row), written by hand: lvox's own EXR writer
+  // would replace the NaN and the negative value.
+  const float texels[9] = {std::nanf(""), std::nanf(""), std::nanf(""), -0.5f, -0.5f,
+                           -0.5f,         2.0f,          2.0f,          2.0f};
+  std::string pfm = "PF\n3 1\n-1.0\n";
+  pfm.append(reinterpret_cast<const char*>(texels), sizeof texels);
+  writeFile(dir / "t.pfm", pfm);
+  const World world = quadOf(dir, "map_Kd t.pfm\n");
+  const SurfaceTextures textures(world, TextureFilter::kNearest);
+  const float expected[3] = {0.0f, 0.0f, 1.0f};
+  for (int tx = 0; tx < 3; ++tx) {
+    uint32_t tri;
+    Vec2 b;
+    locate(world, (static_cast<float>(tx) + 0.5f) / 3.0f, 0.5f, tri, b);
+    const RGB got = textures.albedo(tri, b.x, b.y, Vec3(0.0f), Vec3(0.0f));
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(got[c], expected[tx]) << tx << " " << c;
+  }
+}
+
 }  // namespace
 }  // namespace lvox
