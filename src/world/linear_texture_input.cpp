@@ -12,12 +12,13 @@
 #include <vector>
 
 namespace lvox {
-namespace {
 
 float srgbToLinear(float v) {
   v = std::clamp(v, 0.0f, 1.0f);
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
+
+namespace {
 
 // An ImageInput that reads the whole file through OpenImageIO's own reader, decodes it,
 // and serves its scanlines as half floats. One subimage, one level: the TextureSystem makes

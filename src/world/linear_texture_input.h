@@ -18,6 +18,10 @@ namespace lvox {
 // mask's coverage is no light). False, with OpenImageIO's error, if the cache refused it.
 bool registerTexture(const std::string& path, bool decodeColour);
 
+// The sRGB transfer function's decode, of a value in [0, 1] (clamped): the one the reader
+// applies.
+float srgbToLinear(float encoded);
+
 // The attribute (1) of the spec of an image the decoding reader decoded.
 inline constexpr const char* kDecodedAttribute = "lvox:decoded";
 

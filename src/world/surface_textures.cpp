@@ -10,9 +10,6 @@
 namespace lvox {
 namespace {
 
-// sRGB's 1/2, decoded: where a mask read from a decoded image cuts.
-constexpr float kDecodedHalf = 0.21404114f;
-
 OIIO::TextureSystem* textureSystem(void* p) { return static_cast<OIIO::TextureSystem*>(p); }
 
 std::string firstLine(std::string s) {
@@ -71,7 +68,7 @@ SurfaceTextures::SurfaceTextures(const World& world, TextureFilter filter)
     // A mask without alpha that is also an albedo map reads its decoded grey: the cut stays
     // where the stored value is 1/2.
     if (spec.alpha_channel < 0 && spec.get_int_attribute(kDecodedAttribute) != 0)
-      t->cutBelow = kDecodedHalf;
+      t->cutBelow = srgbToLinear(0.5f);
     handles_.push_back(std::move(t));
   }
 }
