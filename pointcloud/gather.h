@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <type_traits>
 
 #include "pointcloud/gather_light_cells.h"
@@ -17,6 +18,7 @@
 #include "pointcloud/surfel_lookup.h"
 #include "pointcloud/traversal.h"
 #include "pointcloud/triangle_surfel_lattice.h"
+#include "src/core/low_discrepancy.h"
 #include "src/core/rng.h"
 #include "src/core/sampling.h"
 #include "src/geometry/ray_tracer.h"
@@ -36,6 +38,17 @@ class SurfaceHitLight {
   virtual RGB reflected(const SurfaceHit& hit) const = 0;
   // The same for a surfel's side: at p, facing n, of albedo `albedo` (cloud exports).
   virtual RGB reflected(const Vec3& p, const Vec3& n, const RGB& albedo) const = 0;
+};
+
+// Interleaved sampling between gathers: a gather's cosine rays take points [first, first +
+// rays) of the Owen-scrambled (0,2)-sequence with scramble (seedU, seedV)
+// (low_discrepancy.h). Gathers that take consecutive aligned ranges of one scramble cover
+// the hemisphere between them as evenly as one gather with all their rays, while each
+// alone is stratified as its own rays' jittered grid is: where neighbouring receivers see
+// nearly the same light, their errors cancel in the average a final gather takes of them.
+struct SharedStrata {
+  uint32_t first = 0;
+  uint32_t seedU = 0, seedV = 0;
 };
 
 struct GatherOptions {
@@ -72,6 +85,9 @@ struct GatherOptions {
   // stratum its sample falls in, so that four gathers with the four quarters stratify
   // their directions four times as finely together (interleaved sampling).
   int quarter = -1;
+  // Irradiance gathers only, in place of `quarter`: the cosine rays' directions come from
+  // one Owen-scrambled (0,2)-sequence shared with neighbouring gathers (SharedStrata).
+  std::optional<SharedStrata> strata;
   // Irradiance gathers with traced visibility only: `lightSamples` of the `samples` rays
   // aim at points of the lit surfaces, drawn for each receiver, the others are cosine
   // rays, and both weigh what they reach by the balance heuristic (gather_light_cells.h).
@@ -351,6 +367,24 @@ struct LightRayShare {
   }
 };
 
+// Where on the cosine map an irradiance gather's ray (r, c) of its rows x cols strata
+// falls: jittered in its stratum (or in the stratum's `quarter`), or the point of the
+// shared sequence (GatherOptions::strata).
+inline UnitPoint2 cosineRayPoint(const GatherOptions& options, int r, int c, int rows, int cols,
+                                 Rng& rng) {
+  if (options.strata) {
+    const SharedStrata& s = *options.strata;
+    return scrambledSobol2(s.first + static_cast<uint32_t>(r * cols + c), s.seedU, s.seedV);
+  }
+  float j1 = rng.uniform(), j2 = rng.uniform();
+  if (options.quarter >= 0) {
+    j1 = 0.5f * (static_cast<float>(options.quarter & 1) + j1);
+    j2 = 0.5f * (static_cast<float>((options.quarter >> 1) & 1) + j2);
+  }
+  return {(static_cast<float>(r) + j1) / static_cast<float>(rows),
+          (static_cast<float>(c) + j2) / static_cast<float>(cols)};
+}
+
 // Irradiance E [W/m^2] at p with unit normal n: E = pi / N * sum L_i over N stratified
 // cosine-weighted directions (cosine-weighted pdf cos/pi: E = integral L cos dw =
 // pi * mean(L)), into the sink. Outgoing Lambertian radiance is albedo * E / pi.
@@ -385,14 +419,8 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
   const bool aimed = lightRays > 0;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      float j1 = rng.uniform(), j2 = rng.uniform();
-      if (options.quarter >= 0) {
-        j1 = 0.5f * (static_cast<float>(options.quarter & 1) + j1);
-        j2 = 0.5f * (static_cast<float>((options.quarter >> 1) & 1) + j2);
-      }
-      const float u1 = (static_cast<float>(r) + j1) / static_cast<float>(rows);
-      const float u2 = (static_cast<float>(c) + j2) / static_cast<float>(cols);
-      const Ray ray{origin, frame.toWorld(cosineHemisphere(u1, u2)), tmin, kInf};
+      const UnitPoint2 u = cosineRayPoint(options, r, c, rows, cols, rng);
+      const Ray ray{origin, frame.toWorld(cosineHemisphere(u.u, u.v)), tmin, kInf};
       if (aimed)
         traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis},
                        RayStart::kOffSurface);

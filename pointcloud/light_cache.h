@@ -13,6 +13,7 @@
 
 #include "pointcloud/gather.h"
 #include "pointcloud/gather_operator.h"
+#include "pointcloud/surfel_rays.h"
 #include "src/core/collective.h"
 #include "src/core/progress.h"
 
@@ -189,6 +190,9 @@ struct InterreflectionStats {
 // same rays serve every bounce. Few rays per surfel suffice when the camera's final
 // gather averages over many surfels; the noise of each is then averaged out.
 //
+// `sideRays`: how many rays each surfel side traces and where they point (surfel_rays.h);
+// null: surfelOptions.samples each, jittered independently.
+//
 // Over several ranks (`team`, every rank holding the same cloud) each traces and applies
 // its share of the operator's rows, and every pass sums the gathered radiance over the
 // ranks before updating the cloud: every rank ends with the cloud one process computes.
@@ -199,7 +203,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
                                           const GatherOptions& lvoxelOptions,
                                           const InterreflectionPasses& passes, uint64_t seed,
                                           Collective& team = singleProcess(),
-                                          const std::function<void(uint64_t)>& reserve = {}) {
+                                          const std::function<void(uint64_t)>& reserve = {},
+                                          const SurfelRays* sideRays = nullptr) {
   InterreflectionStats stats;
   if (passes.max <= 0) return stats;
   CloudSurfels& s = cloud.mutableSurfels();
@@ -238,8 +243,13 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
           const size_t i = row % n;
           const bool front = row < n;
           Rng rng(seed ^ 0x5f1ce5u, (static_cast<uint64_t>(front ? 0 : 1) << 40) ^ i);
-          gatherIrradianceInto(cloud, s.position(i), front ? s.normal(i) : -s.normal(i),
-                               surfelOptions, rng, scratch, recorder);
+          GatherOptions options = surfelOptions;
+          if (sideRays) {
+            options.samples = sideRays->raysOf(i, front);
+            options.strata = sideRays->strataOf(i, front);
+          }
+          gatherIrradianceInto(cloud, s.position(i), front ? s.normal(i) : -s.normal(i), options,
+                               rng, scratch, recorder);
           (front ? directFront : directBack)[i] = s.albedo[i] * nonNegative(constant[0]) * kInvPi;
         } else {
           const size_t i = row - 2 * n;
@@ -266,7 +276,8 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   }
   stats.traceSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - traceStart).count();
-  stats.gatherRays = 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1)) +
+  stats.gatherRays = (sideRays ? sideRays->totalRays()
+                               : 2 * n * static_cast<size_t>(std::max(surfelOptions.samples, 1))) +
                      m * static_cast<size_t>(std::max(lvoxelOptions.samples, 1)) *
                          static_cast<size_t>(1 + nearFieldRaysPerRay(lvoxelOptions));
   stats.entries = gathers.entries();
@@ -368,6 +379,57 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   }
   stats.ratio = bounceRatio(changes);
   return stats;
+}
+
+// The plan of the surfel sides' rays (surfel_rays.h) from a preview of the interreflection:
+// one ray per side and per lvoxel (no near field, no own-cube quadrature), through
+// kPreviewPasses passes (fewer where `passes` has fewer), on a stream of its own. Each side's
+// one-ray estimate of the light it reflects after the bounces (its converged radiance less its
+// direct one) gives its run's deviation. The cloud is put back as it came (its surfels' radiance,
+// its lvoxels' multiple scattering) and `previewRays` counts the preview's rays.
+inline constexpr int kPreviewPasses = 4;
+template <class Phase>
+SurfelRays previewSurfelRays(PointCloud& cloud, const Phase& phase,
+                             const GatherOptions& surfelOptions, const GatherOptions& lvoxelOptions,
+                             const InterreflectionPasses& passes, int meanRays, uint64_t seed,
+                             Collective& team, uint64_t& previewRays) {
+  CloudSurfels& s = cloud.mutableSurfels();
+  LvoxelLight& light = cloud.mutableLvoxels().light;
+  const size_t n = s.size(), cells = light.occupiedCount();
+  const auto coefficients = static_cast<size_t>(light.coefficients());
+  const std::vector<RGB> front = s.radianceFront, back = s.radianceBack;
+  std::vector<RGB> multi(cells * coefficients);
+  for (size_t c = 0; c < cells; ++c)
+    std::copy_n(light.multiScatter(static_cast<uint32_t>(c)), coefficients,
+                &multi[c * coefficients]);
+
+  const uint64_t previewSeed = splitMix64(seed ^ 0x9e71e3u);
+  const SurfelRays oneRay = uniformSurfelRays(n, 1, previewSeed);
+  GatherOptions lvoxelPreview = lvoxelOptions;
+  lvoxelPreview.samples = 1;
+  lvoxelPreview.nearSamples = 0;
+  lvoxelPreview.ownCubeQuadrature = false;
+  // The first bounces set where the light varies; a one-ray operator's series does not
+  // shrink steadily enough for the pass plan, which ran all 64 passes (2 s in the closed
+  // room) and gave the same plans as 4 (docs/results.md, stop 53).
+  const InterreflectionPasses previewPasses(std::min(passes.max, kPreviewPasses));
+  const InterreflectionStats stats = cacheInterreflection(
+      cloud, phase, surfelOptions, lvoxelPreview, previewPasses, previewSeed, team, {}, &oneRay);
+  previewRays = stats.gatherRays;
+
+  std::vector<float> reflected(2 * n);
+  auto mean = [](const RGB& c) { return (c.x + c.y + c.z) / 3.0f; };
+  for (size_t i = 0; i < n; ++i) {
+    reflected[i] = mean(s.radianceFront[i] - front[i]);
+    reflected[n + i] = mean(s.radianceBack[i] - back[i]);
+  }
+  s.radianceFront = front;
+  s.radianceBack = back;
+  for (size_t c = 0; c < cells; ++c)
+    std::copy_n(&multi[c * coefficients], coefficients,
+                light.multiScatter(static_cast<uint32_t>(c)));
+  cloud.updateAggregates();
+  return plannedSurfelRays(reflected, meanRays, seed);
 }
 
 }  // namespace lvox

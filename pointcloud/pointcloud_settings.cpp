@@ -26,6 +26,8 @@ constexpr Named<IndirectShadowMedia> kIndirectShadowMediaNames[] = {
     {IndirectShadowMedia::kCubes, "cubes"}, {IndirectShadowMedia::kMedia, "media"}};
 constexpr Named<BounceTail> kTailNames[] = {{BounceTail::kNone, "none"},
                                             {BounceTail::kGeometric, "geometric"}};
+constexpr Named<SurfelRayAllocation> kAllocationNames[] = {
+    {SurfelRayAllocation::kUniform, "uniform"}, {SurfelRayAllocation::kVariance, "variance"}};
 constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
                                           {GatherFit::kLinear, "linear"}};
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
@@ -94,6 +96,15 @@ BounceTail parseBounceTail(std::string_view name, const std::string& file,
 }
 
 std::string_view bounceTailName(BounceTail t) { return nameOf(t, kTailNames); }
+
+SurfelRayAllocation parseSurfelRayAllocation(std::string_view name, const std::string& file,
+                                             const std::string& field) {
+  return parseNamed(name, kAllocationNames, "ray allocation", file, field);
+}
+
+std::string_view surfelRayAllocationName(SurfelRayAllocation a) {
+  return nameOf(a, kAllocationNames);
+}
 
 GatherFit parseGatherFit(std::string_view name, const std::string& file, const std::string& field) {
   return parseNamed(name, kFitNames, "fit", file, field);
@@ -164,6 +175,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
                parseGatherVisibility);
   s.hitLatticeStep = p.number("hit_lattice_step", 0.0f, 16.0f, s.hitLatticeStep);
   s.surfelGatherSamples = p.integer("surfel_gather_samples", 1, 1 << 16, s.surfelGatherSamples);
+  s.surfelGatherAllocation = p.choice(
+      "surfel_gather_allocation", std::string(surfelRayAllocationName(s.surfelGatherAllocation)),
+      parseSurfelRayAllocation);
   s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
@@ -219,6 +233,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);
   l.add(p + "surfel_gather_samples", s.surfelGatherSamples);
+  l.add(p + "surfel_gather_allocation", surfelRayAllocationName(s.surfelGatherAllocation));
   if (s.gatherSamples == kAutoGatherSamples)
     l.add(p + "gather_samples", "auto");
   else

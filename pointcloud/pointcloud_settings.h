@@ -37,6 +37,10 @@ enum class IndirectShadowMedia { kCubes, kMedia };
 // What the last interreflection pass adds: nothing, or the estimated rest of the bounce
 // series (light_cache.h, InterreflectionPasses).
 enum class BounceTail { kNone, kGeometric };
+// How the surfel sides share the interreflection's gather rays: each the same count, or
+// half evenly and half by the deviation a preview finds in their light (surfel_rays.h;
+// docs/pcb.md, "Rays where the cloud is noisy").
+enum class SurfelRayAllocation { kUniform, kVariance };
 // How a camera sample's irradiance is fitted to the final gathers around it: their
 // weighted mean, or a plane through them evaluated at the sample (local linear regression;
 // src/render/indirect_grid.h).
@@ -89,7 +93,8 @@ struct PointCloudSettings {
   // surfel standing for a gather ray's hit (triangle_surfel_lattice.h); 0: the exact
   // nearest-surfel search at every hit (surfel_lookup.h).
   float hitLatticeStep = 0.7f;
-  int surfelGatherSamples = 4;  // hemisphere rays per surfel side and pass
+  int surfelGatherSamples = 4;  // hemisphere rays per surfel side and pass, on average
+  SurfelRayAllocation surfelGatherAllocation = SurfelRayAllocation::kUniform;
   // Final gather rays per pixel (split over its samples), or kAutoGatherSamples: chosen
   // once the cloud is lit (finalGatherSamples).
   int gatherSamples = kAutoGatherSamples;
@@ -141,6 +146,9 @@ std::string_view cameraShadowRaysName(CameraShadowRays c);
 IndirectShadowMedia parseIndirectShadowMedia(std::string_view name, const std::string& file,
                                              const std::string& field);
 std::string_view indirectShadowMediaName(IndirectShadowMedia s);
+SurfelRayAllocation parseSurfelRayAllocation(std::string_view name, const std::string& file,
+                                             const std::string& field);
+std::string_view surfelRayAllocationName(SurfelRayAllocation a);
 BounceTail parseBounceTail(std::string_view name, const std::string& file,
                            const std::string& field);
 std::string_view bounceTailName(BounceTail t);

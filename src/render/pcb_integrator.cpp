@@ -2,6 +2,7 @@
 
 #include <tbb/combinable.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -443,9 +444,20 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
       };
     const InterreflectionPasses plan(passes, settings.bounceTolerance,
                                      settings.bounceTail == BounceTail::kGeometric);
-    const InterreflectionStats stats = cacheInterreflection(
-        *cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan, seed, team, reserve);
+    uint64_t previewRays = 0;
+    const auto previewStart = std::chrono::steady_clock::now();
+    const SurfelRays sideRays =
+        settings.surfelGatherAllocation == SurfelRayAllocation::kVariance
+            ? previewSurfelRays(*cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan,
+                                settings.surfelGatherSamples, seed, team, previewRays)
+            : uniformSurfelRays(cache.cloud->surfels().size(), settings.surfelGatherSamples, seed);
+    const double previewSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - previewStart).count();
+    const InterreflectionStats stats =
+        cacheInterreflection(*cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan,
+                             seed, team, reserve, &sideRays);
     cloudGatherRays = stats.gatherRays;
+    report.add("cache_preview_rays", previewRays);
     report.add("cache_gather_rays", stats.gatherRays);
     report.add("interreflection_weights", stats.entries);
     report.memory["interreflection_operator"] = stats.operatorBytes;
@@ -462,6 +474,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.settings["interreflection_tail"] = std::to_string(stats.tail);
     // Parts of "interreflection": the rest is the passes' products and updates.
     report.times["interreflection_trace"] = stats.traceSeconds;
+    report.times["interreflection_preview"] = previewSeconds;
     if (team.distributed()) report.times["interreflection_exchange"] = stats.exchangeSeconds;
   }
   if (team.distributed()) {  // each rank counted the direct light of its own elements

@@ -6,6 +6,7 @@
 
 #include "pointcloud/light_cache.h"
 #include "pointcloud/lvoxel_sampler.h"
+#include "pointcloud/ray_directions.h"
 #include "pointcloud/scenes.h"
 #include "pointcloud/surfel_sampler.h"
 
@@ -225,18 +226,6 @@ struct LvoxelWeights {
   void surfaceLight(const RGB&) {}
 };
 
-// Records each gather ray's direction.
-struct RayDirections {
-  std::vector<Vec3> dirs;
-  void beginRay(const Vec3& d) { dirs.push_back(d); }
-  void surfel(uint32_t, bool, const RGB&) {}
-  void surfelCluster(uint32_t, const RGB&) {}
-  void lvoxel(uint32_t, const RGB&) {}
-  void lvoxelCluster(uint32_t, const RGB&) {}
-  void addBackground(const RGB&) {}
-  void surfaceLight(const RGB&) {}
-};
-
 TEST(Gather, FourQuartersStratifyTheHemisphereFourTimesAsFinely) {
   // 64 rays in 8 x 8 strata of the cosine map (u1 = 1 - cos^2, u2 = azimuth / 2 pi).
   // Alone, a gather with quarter q has one ray per stratum, in that stratum's quarter q;
@@ -249,15 +238,13 @@ TEST(Gather, FourQuartersStratifyTheHemisphereFourTimesAsFinely) {
     GatherOptions o;
     o.samples = 64;
     o.quarter = q;
-    RayDirections sink;
+    test::RayDirections sink;
     Rng rng(7, static_cast<uint64_t>(q));
     gatherIrradianceInto(pc, Vec3(0.0f), Vec3(0, 0, 1), o, rng, scratch, sink);
     ASSERT_EQ(sink.dirs.size(), 64u);
     std::vector<int> coarse(8 * 8, 0);
     for (const Vec3& d : sink.dirs) {
-      const float u1 = 1.0f - d.z * d.z;
-      float u2 = std::atan2(d.y, d.x) / (2.0f * kPi);
-      if (u2 < 0.0f) u2 += 1.0f;
+      const auto [u1, u2] = test::cosineMapPoint(d);
       const int f1 = std::min(15, static_cast<int>(u1 * 16.0f));
       const int f2 = std::min(15, static_cast<int>(u2 * 16.0f));
       ++coarse[static_cast<size_t>((f1 / 2) * 8 + f2 / 2)];

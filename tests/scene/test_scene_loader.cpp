@@ -182,6 +182,8 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
                BounceTail::kNone, "linear");
   expectChoice("gather_fit", &PointCloudSettings::gatherFit, GatherFit::kLinear, "constant",
                GatherFit::kConstant, "quadratic");
+  expectChoice("surfel_gather_allocation", &PointCloudSettings::surfelGatherAllocation,
+               SurfelRayAllocation::kUniform, "variance", SurfelRayAllocation::kVariance, "even");
   // The passes: at most 64 by default, stopped at 1e-3 of the light still to come; 0 runs
   // them all.
   EXPECT_EQ(minimal.pointcloud.bounces, 64);
