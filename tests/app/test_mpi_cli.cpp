@@ -145,6 +145,21 @@ TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   EXPECT_GT(report["counts"]["lvoxels"].get<uint64_t>(), 0u);
 }
 
+// The rays planned by a preview (surfel_gather_allocation "variance"): the ranks trace the
+// preview's rows between them too, so every rank plans the same rays from the same cloud.
+TEST_F(MpiCli, PcbWithPlannedSurfelRaysEqualsOneProcessRender) {
+  std::string text = kScene;
+  const std::string bounces = "\"bounces\": 3,";
+  text.replace(text.find(bounces), bounces.size(),
+               "\"bounces\": 3, \"surfel_gather_allocation\": \"variance\",");
+  test::writeFile(dir_ / "scene.json", text);
+  const auto [alone, ranks] = renderBoth("--mode pcb --spp 2 --threads 1");
+  ASSERT_GT(meanValue(alone), 0.01);
+  EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
+  const nlohmann::json report = readJson(path("ranks.json"));
+  EXPECT_GT(report["counts"]["cache_preview_rays"].get<uint64_t>(), 0u);
+}
+
 // A forward-scattering fog makes the lvoxels directional (docs/pcb.md): the ranks' shares
 // of the interreflection are then nine coefficients per lvoxel row, summed over the ranks
 // just as exactly.
