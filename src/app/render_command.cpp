@@ -38,6 +38,7 @@ struct RenderFlags {
   std::string report;
   std::optional<std::string> mode;
   std::optional<int> spp;
+  std::optional<int> adaptiveSpp;
   std::optional<int> maxBounces;
   std::optional<int64_t> seed;
   std::optional<int> threads;
@@ -113,6 +114,7 @@ std::vector<SettingOverride> overrides(const RenderFlags& f) {
   std::vector<SettingOverride> out;
   addOverride(out, flags::kMode, f.mode);
   addOverride(out, flags::kSpp, f.spp);
+  addOverride(out, flags::kAdaptiveSpp, f.adaptiveSpp);
   addOverride(out, flags::kMaxBounces, f.maxBounces);
   addOverride(out, flags::kSeed, f.seed);
   addOverride(out, flags::kThreads, f.threads);
@@ -269,7 +271,9 @@ int runRender(const RenderFlags& flags, Collective& team) {
   }
   // Monte Carlo renders are long: the first Ctrl-C keeps the finished samples (in one
   // process; a split render stops as a whole, by its launcher).
-  const bool stoppable = scene.render.mode == Mode::kMc && !team.distributed();
+  // Not with adaptive samples: their extra samples need every first one.
+  const bool stoppable = scene.render.mode == Mode::kMc && !team.distributed() &&
+                         adaptiveSamplesFor(scene.render) == 0;
   const InterruptGuard interrupts(stoppable);
   if (stoppable) plan.stop = &g_stopRequested;
   RenderResult result = renderScene(scene.job(), plan, report);
@@ -323,6 +327,13 @@ void addRenderCommand(CLI::App& app, int& exitCode, Collective& team) {
                   "Mode: " + modeNames() + scene(flags::kMode, std::string(modeName(r.mode))));
   cmd->add_option(flags::kSpp.flag, flags->spp,
                   "Samples per pixel" + scene(flags::kSpp, std::to_string(r.spp)));
+  cmd->add_option(flags::kAdaptiveSpp.flag, flags->adaptiveSpp,
+                  "Mean samples per pixel with adaptive samples: after --spp in every pixel, "
+                  "more where the neighbours' samples disagree (0: none; auto: 3/2 of --spp "
+                  "in the pcb modes)" +
+                      scene(flags::kAdaptiveSpp, r.adaptiveSpp == RenderSettings::kAutoAdaptive
+                                                     ? std::string("auto")
+                                                     : std::to_string(r.adaptiveSpp)));
   cmd->add_option(
       flags::kMaxBounces.flag, flags->maxBounces,
       "Scattering events per path" + scene(flags::kMaxBounces, std::to_string(r.maxBounces)));

@@ -121,10 +121,20 @@ void Film::addPixel(int x, int y, const PixelLayerSums& sums) {
   for (int i = 0; i < slots_; ++i) p[i] += sums[i];
 }
 
+double Film::samplesOf(size_t pixel, int samples) const {
+  return std::max(1.0, static_cast<double>(samples) + (extra_.empty() ? 0.0 : extra_[pixel]));
+}
+
+Image Film::beautyMean(int samples) const {
+  Image out = beauty;
+  for (size_t i = 0; i < out.pixels.size(); ++i)
+    out.pixels[i] /= static_cast<float>(samplesOf(i, samples));
+  return out;
+}
+
 std::vector<ExtraChannel> Film::layerChannels(int samples) const {
   std::vector<ExtraChannel> out;
   const size_t n = beauty.pixels.size();
-  const double count = std::max(samples, 1);
   const char* rgb[3] = {"R", "G", "B"};
   const char* xyz[3] = {"X", "Y", "Z"};
   for (const Named<Layer>& l : kLayerNames) {
@@ -134,6 +144,7 @@ std::vector<ExtraChannel> Film::layerChannels(int samples) const {
     if (l.value == Layer::kDepth) {
       ExtraChannel depth{layer + ".Z", plane(n)}, coverage{"coverage.Y", plane(n)};
       for (size_t i = 0; i < n; ++i) {
+        const double count = samplesOf(i, samples);
         const double hits = sums_[i * slots_ + o + 1];
         depth.values[i] = hits > 0 ? static_cast<float>(sums_[i * slots_ + o] / hits) : 0.0f;
         coverage.values[i] = static_cast<float>(hits / count);
@@ -145,6 +156,7 @@ std::vector<ExtraChannel> Film::layerChannels(int samples) const {
     for (int c = 0; c < 3; ++c) {
       ExtraChannel ch{layer + "." + (l.value == Layer::kNormal ? xyz[c] : rgb[c]), plane(n)};
       for (size_t i = 0; i < n; ++i) {
+        const double count = samplesOf(i, samples);
         const double sum = sums_[i * slots_ + o + c];
         if (l.value != Layer::kVariance) {
           ch.values[i] = static_cast<float>(sum / count);
@@ -153,7 +165,7 @@ std::vector<ExtraChannel> Film::layerChannels(int samples) const {
         // s^2 / n with s^2 = (sum x^2 - n mean^2) / (n - 1); 0 with a single sample.
         const double mean = sum / count;
         const double squares = sums_[i * slots_ + o + 3 + c];
-        const double s2 = samples > 1 ? (squares - count * mean * mean) / (count - 1.0) : 0.0;
+        const double s2 = count > 1.0 ? (squares - count * mean * mean) / (count - 1.0) : 0.0;
         ch.values[i] = static_cast<float>(std::max(0.0, s2) / count);
       }
       out.push_back(std::move(ch));

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "src/core/image.h"
@@ -43,9 +44,14 @@ class Film {
   // The layer sums as one span, for adding films over ranks (Collective::sum).
   std::vector<double>& layerSums() { return sums_; }
 
-  // The means after `samples` samples per pixel, as EXR channels "direct.R", ...,
-  // "depth.Z", "coverage.Y", "variance.R", ... (the beauty is `beauty` / samples).
+  // Adaptive samples (adaptive_samples.h): pixel i took `extra[i]` samples beyond the
+  // `samples` every pixel took; the means below divide by its own count.
+  void setExtraSamples(std::vector<uint32_t> extra) { extra_ = std::move(extra); }
+  // The means after `samples` samples per pixel (and the extra ones), as EXR channels
+  // "direct.R", ..., "depth.Z", "coverage.Y", "variance.R", ...
   std::vector<ExtraChannel> layerChannels(int samples) const;
+  // The beauty's mean per pixel: `beauty` / samples (and the extra ones).
+  Image beautyMean(int samples) const;
 
   Image beauty;  // the sum of the samples' radiance
 
@@ -55,6 +61,9 @@ class Film {
   std::array<int, kLayerCount> offsets_{};
   int slots_ = 0;  // doubles per pixel
   std::vector<double> sums_;
+  std::vector<uint32_t> extra_;  // empty: no pixel took more than `samples`
+
+  double samplesOf(size_t pixel, int samples) const;
 };
 
 }  // namespace lvox

@@ -8,12 +8,6 @@
 namespace lvox {
 namespace {
 
-Image mean(const Image& sum, int spp) {
-  Image out = sum;
-  for (RGB& p : out.pixels) p /= static_cast<float>(spp);
-  return out;
-}
-
 // A pass that can be stopped: about half a second of work, so a stop request is honoured
 // quickly and loses little (one sample at first, until a sample's time is known).
 int stoppablePass(double secondsPerSample) {
@@ -28,8 +22,11 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
   using Clock = std::chrono::steady_clock;
   RenderResult result;
   Film film(width, height, plan.layers);
-  Progress::global().addWork(static_cast<uint64_t>(width) * height *
-                             static_cast<uint64_t>(plan.spp));
+  const uint64_t pixels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+  const bool adaptive = plan.adaptiveSpp > plan.spp;
+  Progress::global().addWork(pixels *
+                             static_cast<uint64_t>(adaptive ? plan.adaptiveSpp : plan.spp));
+  PixelMoments moments(adaptive ? pixels : 0);
   const bool progressive = plan.timeLimitSeconds > 0.0 || plan.reference != nullptr;
   const auto start = Clock::now();
   double secondsPerSample = 0.0;
@@ -54,7 +51,7 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
     }
     const auto passStart = Clock::now();
     accumulateTiles(film, plan.firstSample + static_cast<uint64_t>(result.sppDone), pass, seed,
-                    sample, stats);
+                    sample, stats, adaptive ? &moments : nullptr);
     const double passSeconds = std::chrono::duration<double>(Clock::now() - passStart).count();
     secondsPerSample = passSeconds / pass;
     result.sppDone += pass;
@@ -63,11 +60,19 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
       point.spp = result.sppDone;
       point.seconds = std::chrono::duration<double>(Clock::now() - start).count();
       point.error =
-          compareImages(mean(film.beauty, result.sppDone), *plan.reference, "render", "reference");
+          compareImages(film.beautyMean(result.sppDone), *plan.reference, "render", "reference");
       result.convergence.push_back(point);
     }
   }
-  result.image = result.sppDone > 0 ? mean(film.beauty, result.sppDone) : film.beauty;
+  if (adaptive && result.sppDone == plan.spp && !(plan.stop && plan.stop->load())) {
+    std::vector<uint32_t> extra =
+        adaptiveExtraSamples(moments, width, height, plan.spp, plan.adaptiveSpp);
+    accumulateExtraRows(film, 0, height, plan.firstSample + static_cast<uint64_t>(plan.spp), extra,
+                        0, 1, seed, sample, stats);
+    for (uint32_t e : extra) result.extraSamples += e;
+    film.setExtraSamples(std::move(extra));
+  }
+  result.image = result.sppDone > 0 ? film.beautyMean(result.sppDone) : film.beauty;
   if (result.sppDone > 0) result.layers = film.layerChannels(result.sppDone);
   return result;
 }

@@ -15,7 +15,11 @@
 namespace lvox {
 
 struct RenderPlan {
-  int spp = 1;                       // samples per pixel to render (the maximum with a budget)
+  int spp = 1;  // samples per pixel to render (the maximum with a budget)
+  // Adaptive samples (adaptive_samples.h): after the `spp` of every pixel, more where the
+  // neighbours' samples disagree, up to this mean per pixel; 0 (or spp): none. Not with a
+  // time budget, a reference, or a first sample other than 0.
+  int adaptiveSpp = 0;
   uint64_t firstSample = 0;          // index of the first sample: chunks of one reference
   double timeLimitSeconds = 0.0;     // 0: no budget
   const Image* reference = nullptr;  // record the error after each doubling
@@ -42,7 +46,8 @@ struct RenderResult {
   Image image;                       // mean of the samples rendered
   std::vector<ExtraChannel> layers;  // the means of the plan's layers, as EXR channels
   int sppDone = 0;
-  bool stopped = false;  // plan.stop was set before every sample was done
+  uint64_t extraSamples = 0;  // the adaptive samples beyond sppDone per pixel, in all
+  bool stopped = false;       // plan.stop was set before every sample was done
   std::vector<ConvergencePoint> convergence;
 };
 

@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "src/core/error.h"
 #include "src/core/memory_budget.h"
 #include "src/core/names.h"
 #include "src/core/work_budget.h"
@@ -14,7 +15,17 @@ constexpr Named<Mode> kModeNames[] = {{Mode::kPcb, "pcb"},
                                       {Mode::kDirect, "direct"},
                                       {Mode::kMc, "mc"}};
 
+int parseAutoAdaptive(std::string_view text, const std::string& file, const std::string& field) {
+  if (text == "auto") return RenderSettings::kAutoAdaptive;
+  throw InputError(file, field, "must be \"auto\" or a whole number of samples per pixel");
+}
+
 }  // namespace
+
+int adaptiveSamplesFor(const RenderSettings& s) {
+  if (s.adaptiveSpp != RenderSettings::kAutoAdaptive) return s.adaptiveSpp;
+  return isPointBased(s.mode) && s.spp >= 2 ? (3 * s.spp + 1) / 2 : 0;
+}
 
 Mode parseMode(std::string_view name, const std::string& file, const std::string& field) {
   return parseNamed(name, kModeNames, "mode", file, field);
@@ -27,6 +38,12 @@ RenderSettings parseRenderSettings(JsonObject r) {
   RenderSettings s;
   s.mode = r.choice("mode", std::string(modeName(s.mode)), parseMode);
   s.spp = r.integer("spp", 1, 1 << 20, s.spp);
+  s.adaptiveSpp = r.has("adaptive_spp") && r.raw("adaptive_spp").is_number()
+                      ? r.integer("adaptive_spp", 0, 1 << 20, 0)
+                      : r.choice("adaptive_spp", "auto", parseAutoAdaptive);
+  if (s.adaptiveSpp > 0 && s.adaptiveSpp <= s.spp)
+    throw InputError(r.file(), r.fieldPath("adaptive_spp"),
+                     "must be 0 (none) or more than render.spp (" + std::to_string(s.spp) + ")");
   s.maxBounces = r.integer("max_bounces", 0, 1 << 16, s.maxBounces);
   s.seed = static_cast<uint64_t>(
       r.integer("seed", 0, std::numeric_limits<int>::max(), static_cast<int>(s.seed)));
@@ -52,6 +69,9 @@ SettingList describe(const RenderSettings& s) {
   SettingList l;
   l.add("render.mode", modeName(s.mode));
   l.add("render.seed", std::to_string(s.seed));
+  l.add("render.adaptive_spp", s.adaptiveSpp == RenderSettings::kAutoAdaptive
+                                   ? std::string("auto")
+                                   : std::to_string(s.adaptiveSpp));
   l.add("render.max_bounces", s.maxBounces);
   l.add("render.area_light_samples", s.areaLightSamples);
   l.add("render.medium_light_samples", s.mediumLightSamples);

@@ -18,6 +18,11 @@ enum class Mode { kPcb, kPcbSurfels, kDirect, kMc };
 struct RenderSettings {
   Mode mode = Mode::kPcb;
   int spp = 4;
+  // Adaptive samples (adaptive_samples.h): after `spp` samples of every pixel, more where
+  // its neighbours' samples disagree, up to this mean per pixel; 0: none; kAutoAdaptive
+  // ("auto", the default): adaptiveSamplesFor below.
+  int adaptiveSpp = kAutoAdaptive;
+  static constexpr int kAutoAdaptive = -1;
   int maxBounces = 8;
   uint64_t seed = 1;
   int areaLightSamples = 16;   // shadow rays per area light (and environment) at a surface point
@@ -34,6 +39,12 @@ struct RenderSettings {
   // does not change the image.
   uint64_t maxEvaluations = 0;
 };
+
+// The mean samples per pixel a render takes with adaptive samples, 0 for none. "auto":
+// 3/2 of spp (rounded up) in the point-based modes from 2 spp on (one sample per pixel
+// tells no variance), none in mc and direct (the references and the baseline keep even
+// samples); docs/results.md, stop 54, has what it gives.
+int adaptiveSamplesFor(const RenderSettings& s);
 
 // Reads the "render" object; unknown keys and out-of-range values throw.
 RenderSettings parseRenderSettings(JsonObject r);

@@ -2,10 +2,12 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <iterator>
 #include <memory>
 #include <vector>
 
+#include "src/core/error.h"
 #include "src/core/work_budget.h"
 #include "src/render/direct_integrator.h"
 #include "src/render/distributed_render.h"
@@ -62,9 +64,38 @@ Image renderScene(const RenderJob& job, Report& report) {
   return renderScene(job, plan, report).image;
 }
 
-RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& report) {
+namespace {
+
+// The plan with the scene's adaptive samples, which need every first sample of the image
+// in one pass before the extra ones: given in the scene, a plan that cannot have them is an
+// error; under "auto" such a plan renders even samples, and the report says so.
+RenderPlan withAdaptiveSamples(RenderPlan plan, const RenderJob& job, Report& report) {
+  RenderSettings settings = job.render;
+  settings.spp = plan.spp;
+  plan.adaptiveSpp = adaptiveSamplesFor(settings);
+  if (plan.adaptiveSpp == 0) return plan;
+  const bool automatic = job.render.adaptiveSpp == RenderSettings::kAutoAdaptive;
+  const char* field = "render.adaptive_spp";
+  const char* why =
+      plan.timeLimitSeconds > 0.0 ? "needs no --time-limit"
+      : plan.reference            ? "needs no --convergence"
+      : plan.firstSample != 0
+          ? "needs --first-sample 0: a chunk's extra samples would be the next chunk's"
+          : nullptr;
+  if (!why && plan.adaptiveSpp <= plan.spp) why = "must be more than the samples per pixel (--spp)";
+  if (!why) return plan;
+  if (!automatic) throw InputError(job.sceneFile, field, why);
+  report.warnings.push_back(std::string("adaptive samples are off: ") + field + " " + why);
+  plan.adaptiveSpp = 0;
+  return plan;
+}
+
+}  // namespace
+
+RenderResult renderScene(const RenderJob& job, const RenderPlan& requested, Report& report) {
   const World& world = job.world;
   const RenderSettings& settings = job.render;
+  const RenderPlan plan = withAdaptiveSamples(requested, job, report);
   Collective& team = plan.team ? *plan.team : singleProcess();
   std::unique_ptr<tbb::global_control> threads;
   if (settings.threads > 0)
@@ -81,7 +112,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   const LightSet singleSampleLights(world, 1);
   MemoryBudget budget(settings.maxMemory);
   const uint64_t cameraSamples = static_cast<uint64_t>(world.camera.width) * world.camera.height *
-                                 static_cast<uint64_t>(plan.spp);
+                                 static_cast<uint64_t>(std::max(plan.spp, plan.adaptiveSpp));
   WorkBudget work(settings.maxEvaluations, cameraSamples, job.sceneFile);
   // The accumulation buffers and the output image (the progressive renderer's sums,
   // variance and counts): about 64 bytes per pixel.
@@ -182,6 +213,7 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& plan, Report& r
   report.add("evaluation_budget", work.limit());
   report.memory["budget_reserved"] = budget.reserved();
   report.add("camera_rays", stats.samples);
+  report.add("adaptive_samples", result.extraSamples);
   report.add("invalid_samples", stats.invalidSamples);
   counters.addTo(report);
   report.settings["mode"] = std::string(modeName(settings.mode));

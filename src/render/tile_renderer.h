@@ -6,9 +6,11 @@
 // Non-finite or negative samples are zeroed and counted: they never reach the image.
 #include <cstdint>
 #include <functional>
+#include <span>
 
 #include "src/core/image.h"
 #include "src/core/rng.h"
+#include "src/render/adaptive_samples.h"
 #include "src/render/film.h"
 #include "src/render/layers.h"
 
@@ -44,11 +46,19 @@ inline Rng sampleRng(uint64_t seed, int width, int x, int y, uint64_t sampleInde
 PixelSample pixelSample(uint64_t seed, int width, int x, int y, uint64_t sampleIndex);
 
 // Adds samples [firstSample, firstSample + count) of every pixel to the film (unnormalised),
-// with their layers when the film has any.
+// with their layers when the film has any; with `moments`, also each valid sample's channel
+// mean to its pixel's moments (adaptive_samples.h).
 void accumulateTiles(Film& film, uint64_t firstSample, int count, uint64_t seed,
-                     const PixelSampler& sample, TileStats& stats);
+                     const PixelSampler& sample, TileStats& stats, PixelMoments* moments = nullptr);
 // The same for the pixels of rows [rowBegin, rowEnd) only.
 void accumulateRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample, int count,
-                    uint64_t seed, const PixelSampler& sample, TileStats& stats);
+                    uint64_t seed, const PixelSampler& sample, TileStats& stats,
+                    PixelMoments* moments = nullptr);
+// Adaptive samples: pixel i of rows [rowBegin, rowEnd) adds its samples [firstSample,
+// firstSample + extra[i]), or of them the share [extra[i] part / parts, extra[i] (part + 1)
+// / parts) (a render split by sample ranges over `parts` processes).
+void accumulateExtraRows(Film& film, int rowBegin, int rowEnd, uint64_t firstSample,
+                         std::span<const uint32_t> extra, int part, int parts, uint64_t seed,
+                         const PixelSampler& sample, TileStats& stats);
 
 }  // namespace lvox

@@ -33,6 +33,7 @@ struct FlagField {
 namespace flags {
 inline constexpr FlagField kMode{"--mode", "render", "mode"};
 inline constexpr FlagField kSpp{"--spp", "render", "spp"};
+inline constexpr FlagField kAdaptiveSpp{"--adaptive-spp", "render", "adaptive_spp"};
 inline constexpr FlagField kMaxBounces{"--max-bounces", "render", "max_bounces"};
 inline constexpr FlagField kSeed{"--seed", "render", "seed"};
 inline constexpr FlagField kThreads{"--threads", "render", "threads"};

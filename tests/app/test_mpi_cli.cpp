@@ -141,7 +141,8 @@ TEST_F(MpiCli, PcbEqualsOneProcessRender) {
   EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
   expectTwoRanksReported("interreflection");
   const nlohmann::json report = readJson(path("ranks.json"));
-  EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 40u * 36u * 2u);
+  // 2 samples per pixel and, under the default adaptive samples, 1 more on average.
+  EXPECT_EQ(report["counts"]["camera_rays"].get<uint64_t>(), 40u * 36u * 3u);
   EXPECT_GT(report["counts"]["lvoxels"].get<uint64_t>(), 0u);
 }
 
@@ -158,6 +159,21 @@ TEST_F(MpiCli, PcbWithPlannedSurfelRaysEqualsOneProcessRender) {
   EXPECT_EQ(maxRelativeDifference(ranks, alone), 0.0);
   const nlohmann::json report = readJson(path("ranks.json"));
   EXPECT_GT(report["counts"]["cache_preview_rays"].get<uint64_t>(), 0u);
+}
+
+// Adaptive samples (render.adaptive_spp): the ranks sum the first samples' moments, plan
+// the same extra samples, and split them as the first ones (pcb: by bands of rows, bit for
+// bit; mc: by sample ranges, up to the order of the additions).
+TEST_F(MpiCli, AdaptiveSamplesEqualOneProcessRender) {
+  for (const char* mode : {"pcb", "mc"}) {
+    const auto [alone, ranks] =
+        renderBoth(std::string("--mode ") + mode + " --spp 2 --adaptive-spp 5 --threads 1");
+    ASSERT_GT(meanValue(alone), 0.01) << mode;
+    EXPECT_LE(maxRelativeDifference(ranks, alone), std::string(mode) == "mc" ? 1e-5 : 0.0) << mode;
+    const nlohmann::json report = readJson(path("ranks.json"));
+    const uint64_t pixels = report["counts"]["camera_rays"].get<uint64_t>() / 5u;
+    EXPECT_EQ(report["counts"]["adaptive_samples"].get<uint64_t>(), 3u * pixels) << mode;
+  }
 }
 
 // A forward-scattering fog makes the lvoxels directional (docs/pcb.md): the ranks' shares

@@ -151,9 +151,10 @@ TEST(EmitterPixels, PcbImagesTakeTheEdgesFromTheirRays) {
   const RenderContext& ctx = view.ctx;
   const EmitterPixels edges(ctx, 16);
   auto renderWith = [](int samples, Report& report) {
-    const Scene scene =
-        squareScene(true, R"("render": {"mode": "pcb", "spp": 4, "emitter_samples": )" +
-                              std::to_string(samples) + "},");
+    // Even samples: every edge pixel takes 4 camera samples, each `samples` rays.
+    const Scene scene = squareScene(
+        true, R"("render": {"mode": "pcb", "spp": 4, "adaptive_spp": 0, "emitter_samples": )" +
+                  std::to_string(samples) + "},");
     RenderPlan plan;
     plan.spp = 4;
     return renderScene(scene.job(), plan, report).image;
