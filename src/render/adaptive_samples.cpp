@@ -76,10 +76,14 @@ std::vector<uint32_t> adaptiveExtraSamples(const PixelMoments& moments, int widt
       placed = target;
     }
   }
-  // What the varying pixels cannot take (they are all at hi, or nothing varies) goes to
-  // every pixel alike.
-  const double rest = std::max(0.0, target - placed) / static_cast<double>(pixels);
-  for (double& s : share) s += rest;
+  // What the varying pixels cannot take (they are all at hi, or nothing varies) goes
+  // alike to every pixel below hi (as the budget's mean is, there is room).
+  size_t underCap = 0;
+  for (double x : share) underCap += x < hi - lo ? 1 : 0;
+  const double rest =
+      underCap > 0 ? std::max(0.0, target - placed) / static_cast<double>(underCap) : 0.0;
+  for (double& x : share)
+    if (x < hi - lo) x += rest;
   // In pixel order, each pixel takes the rounded running sum less what came before: the
   // extra samples add up to the target, and each pixel is within one of its share.
   const auto goal = static_cast<uint64_t>(target);

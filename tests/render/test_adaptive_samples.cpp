@@ -107,6 +107,22 @@ TEST(AdaptiveSamples, APixelsOwnSamplesDoNotSetItsCount) {
   EXPECT_EQ(total(extra), 81u);
 }
 
+// One noisy corner of a 20 x 20 image: its 3 neighbours could take all 800 extra samples
+// but reach the cap (16 times the mean of 6, 96) first; the rest goes alike to the others.
+TEST(AdaptiveSamples, WhatTheCappedPixelsCannotTakeGoesToTheOthers) {
+  std::vector<double> variance(400, 0.0);
+  variance[0] = 1.0;
+  const std::vector<uint32_t> extra = adaptiveExtraSamples(momentsOf(variance, 4), 20, 20, 4, 6);
+  EXPECT_EQ(total(extra), 800u);
+  for (size_t i : {size_t(1), size_t(20), size_t(21)}) EXPECT_NEAR(extra[i], 92u, 1u) << i;
+  for (size_t i = 0; i < extra.size(); ++i) {
+    EXPECT_LE(4u + extra[i], 96u + 1u) << i;
+    if (i != 1 && i != 20 && i != 21) {
+      EXPECT_LE(extra[i], 2u) << i;
+    }
+  }
+}
+
 // Between two halves of variance 1 and 64, away from the border between them, the counts
 // go as the cube root: 4 times as many samples where the deviation is 8 times as large.
 TEST(AdaptiveSamples, CountsGoAsTheCubeRootOfTheVariance) {
