@@ -226,6 +226,9 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& requested, Repo
   for (const SettingList& list :
        {describe(job.render), describe(job.volume), describe(job.pointcloud)})
     for (const auto& [field, value] : list.items()) report.settings[field] = value;
+  // The samples the render took, "auto" resolved: a chunk with adaptive samples and one
+  // without (--first-sample other than 0) are not chunks of one image, and lvox merge says so.
+  report.settings["render.adaptive_spp"] = std::to_string(plan.adaptiveSpp);
   const double seconds = report.times["render"];
   if (seconds > 0 && counters.paths.load() > 0)
     report.settings["paths_per_second"] =

@@ -390,6 +390,26 @@ TEST(RenderCli, MergeRefusesChunksWhoseSettingsOrSceneDiffer) {
   }
 }
 
+// pcb's adaptive samples ("auto") need the whole image's first samples: a chunk from
+// --first-sample 0 takes them and a later chunk cannot (it warns). Their samples would
+// overlap, so merge refuses the pair, naming the setting.
+TEST(RenderCli, MergeRefusesAChunkWithAdaptiveSamplesBesideOneWithout) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "scene.json", kScene);
+  const std::string scene = (dir / "scene.json").string() + " --mode pcb --spp 2";
+  ASSERT_EQ(runLvox("render " + scene + " -o " + (dir / "a.exr").string(), dir).exitCode, 0);
+  const RunResult later =
+      runLvox("render " + scene + " --first-sample 2 -o " + (dir / "b.exr").string(), dir);
+  ASSERT_EQ(later.exitCode, 0);
+  EXPECT_NE(later.err.find("adaptive samples are off"), std::string::npos) << later.err;
+  const RunResult r = runLvox("merge " + (dir / "a.exr").string() + " " + (dir / "b.exr").string() +
+                                  " -o " + (dir / "merged.exr").string(),
+                              dir);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("lvox.render.adaptive_spp: differs"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "merged.exr"));
+}
+
 // --exposure scales the PNG preview by 2^E before its tone map, and never the EXR.
 TEST(RenderCli, ExposureScalesThePreviewNotTheExr) {
   const auto dir = test::tempDir();
