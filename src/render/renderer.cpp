@@ -118,6 +118,9 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& requested, Repo
   // variance and counts): about 64 bytes per pixel.
   const uint64_t pixels = static_cast<uint64_t>(world.camera.width) * world.camera.height;
   budget.reserve(pixels * 64, job.sceneFile, "camera.width", "the image");
+  if (plan.adaptiveSpp > 0)  // the first samples' moments (PixelMoments) and the counts
+    budget.reserve(pixels * (2 * sizeof(double) + sizeof(uint64_t) + sizeof(uint32_t)),
+                   job.sceneFile, "render.adaptive_spp", "the adaptive samples' moments");
   if (!plan.layers.empty())
     budget.reserve(pixels * Film::layerBytesPerPixel(plan.layers), job.sceneFile, "--layers",
                    "the layers' sums");
