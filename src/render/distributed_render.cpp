@@ -51,10 +51,8 @@ uint64_t renderExtraSamples(Film& film, uint64_t seed, const PixelSampler& sampl
     forEachBand(film, team, [&](int rowBegin, int rowEnd) {
       accumulateExtraRows(film, rowBegin, rowEnd, first, extra, 0, 1, seed, sample, stats);
     });
-  uint64_t total = 0;
-  for (uint32_t e : extra) total += e;
   film.setExtraSamples(std::move(extra));
-  return total;
+  return film.extraSamples();
 }
 
 }  // namespace

@@ -125,6 +125,12 @@ double Film::samplesOf(size_t pixel, int samples) const {
   return std::max(1.0, static_cast<double>(samples) + (extra_.empty() ? 0.0 : extra_[pixel]));
 }
 
+uint64_t Film::extraSamples() const {
+  uint64_t total = 0;
+  for (uint32_t e : extra_) total += e;
+  return total;
+}
+
 Image Film::beautyMean(int samples) const {
   Image out = beauty;
   for (size_t i = 0; i < out.pixels.size(); ++i)

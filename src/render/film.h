@@ -47,6 +47,7 @@ class Film {
   // Adaptive samples (adaptive_samples.h): pixel i took `extra[i]` samples beyond the
   // `samples` every pixel took; the means below divide by its own count.
   void setExtraSamples(std::vector<uint32_t> extra) { extra_ = std::move(extra); }
+  uint64_t extraSamples() const;  // their sum over the pixels
   // The means after `samples` samples per pixel (and the extra ones), as EXR channels
   // "direct.R", ..., "depth.Z", "coverage.Y", "variance.R", ...
   std::vector<ExtraChannel> layerChannels(int samples) const;

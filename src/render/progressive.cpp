@@ -69,8 +69,8 @@ RenderResult renderProgressive(int width, int height, uint64_t seed, const Pixel
         adaptiveExtraSamples(moments, width, height, plan.spp, plan.adaptiveSpp);
     accumulateExtraRows(film, 0, height, plan.firstSample + static_cast<uint64_t>(plan.spp), extra,
                         0, 1, seed, sample, stats);
-    for (uint32_t e : extra) result.extraSamples += e;
     film.setExtraSamples(std::move(extra));
+    result.extraSamples = film.extraSamples();
   }
   result.image = result.sppDone > 0 ? film.beautyMean(result.sppDone) : film.beauty;
   if (result.sppDone > 0) result.layers = film.layerChannels(result.sppDone);
