@@ -76,6 +76,8 @@ TEST(SettingsSources, FlagsAreCheckedLikeTheirFieldsAndNamedInErrors) {
       {{"--tol", "volume_integrator", "tolerance", 5.0}, "--tol: value 5 is outside"},
       {{"--seed", "render", "seed", -1}, "--seed: value -1 is outside"},
       {{"--spp", "render", "spp", 0}, "--spp: value 0 is outside"},
+      {{"--adaptive-spp", "render", "adaptive_spp", 3},
+       "--adaptive-spp: must be 0 (none) or more than render.spp (4)"},
       {{"--width", "camera", "width", 100000}, "--width: value 100000 is outside"}};
   for (const auto& [flag, expected] : cases) {
     const std::string msg = errorOf(kValid, {flag});
