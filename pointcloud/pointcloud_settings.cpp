@@ -169,6 +169,9 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.indirectShadowMedia =
       p.choice("indirect_shadow_media", std::string(indirectShadowMediaName(s.indirectShadowMedia)),
                parseIndirectShadowMedia);
+  s.lvoxelSkyShadowMedia = p.choice("lvoxel_sky_shadow_media",
+                                    std::string(indirectShadowMediaName(s.lvoxelSkyShadowMedia)),
+                                    parseIndirectShadowMedia);
   s.burialReach = p.number("burial_reach", 0.0f, 1e3f, s.burialReach);
   s.gatherVisibility =
       p.choice("gather_visibility", std::string(gatherVisibilityName(s.gatherVisibility)),
@@ -229,6 +232,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));
   l.add(p + "camera_shadow_rays", cameraShadowRaysName(s.cameraShadowRays));
   l.add(p + "indirect_shadow_media", indirectShadowMediaName(s.indirectShadowMedia));
+  l.add(p + "lvoxel_sky_shadow_media", indirectShadowMediaName(s.lvoxelSkyShadowMedia));
   l.add(p + "burial_reach", s.burialReach);
   l.add(p + "gather_visibility", gatherVisibilityName(s.gatherVisibility));
   l.add(p + "hit_lattice_step", s.hitLatticeStep);

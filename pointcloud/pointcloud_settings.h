@@ -87,6 +87,11 @@ struct PointCloudSettings {
   LvoxelLightBlend lvoxelLightBlend = LvoxelLightBlend::kExponential;
   CameraShadowRays cameraShadowRays = CameraShadowRays::kEdges;
   IndirectShadowMedia indirectShadowMedia = IndirectShadowMedia::kCubes;
+  // Where the lvoxels' sky samples (lvoxel_light_samples shadow rays to the environment)
+  // find the media: the cubes, or the media themselves. The delta lights' and the
+  // emitters' shadow rays of the lvoxels always solve the media (docs/pcb.md, "Shadow
+  // rays through the cubes").
+  IndirectShadowMedia lvoxelSkyShadowMedia = IndirectShadowMedia::kCubes;
   float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the

@@ -284,8 +284,9 @@ void cacheDirect(const RenderContext& ctx, const VolumeTransport& volume,
     PhaseTimer timer(report, "lvoxel_direct");  // a part of "direct_cache"
     const LightSet lvoxelLights(ctx.world, settings.lvoxelLightSamples);
     lvoxelLight.setBlend(settings.lvoxelLightBlend);
-    report.work["lvoxel_direct_cells"] +=
-        cacheLvoxelDirectLight(withSamples(lvoxelLights), volume, lvoxelLight, counts, team);
+    report.work["lvoxel_direct_cells"] += cacheLvoxelDirectLight(
+        withSamples(lvoxelLights), volume, lvoxelLight, counts, team,
+        settings.lvoxelSkyShadowMedia == IndirectShadowMedia::kCubes ? &cloud : nullptr);
   }
   const LightSet surfelLights(ctx.world, settings.surfelLightSamples);
   const RenderContext surfelCtx = withSamples(surfelLights);

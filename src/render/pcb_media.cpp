@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "pointcloud/cube_transmittance.h"
 #include "pointcloud/lvoxel_sampler.h"
 #include "pointcloud/own_cube.h"
 #include "src/core/error.h"
@@ -62,6 +63,16 @@ LightPath lightPath(const RenderContext& ctx, const VolumeTransport& volume, con
   const Ray shadow = shadowRayFrom(x, wi, distance);
   if (ctx.tracer.occluded(shadow)) return {};
   return {true, volume.transmittance(shadow, counts, reduced)};
+}
+
+// The same path through the lvoxels' cubes (cube_transmittance.h), which hold the reduced
+// medium where the lvoxels are directional.
+LightPath cubePath(const RenderContext& ctx, const PointCloud& cubes, const Vec3& x, const Vec3& wi,
+                   float distance) {
+  const Ray shadow = shadowRayFrom(x, wi, distance);
+  if (ctx.tracer.occluded(shadow)) return {};
+  thread_local TraversalScratch scratch;
+  return {true, cubeTransmittance(cubes, shadow, scratch)};
 }
 
 // Anisotropic media give the cloud directional lvoxels (delta-M, docs/pcb.md): each keeps
@@ -128,7 +139,8 @@ LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPe
 }
 
 size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
-                              LvoxelLight& light, rte::SolveCounts& counts, Collective& team) {
+                              LvoxelLight& light, rte::SolveCounts& counts, Collective& team,
+                              const PointCloud* skyCubes) {
   const LightSet& lights = ctx.lights;
   const MediaSet& media = volume.media();
   const size_t deltaCount = lights.lights().size();
@@ -171,7 +183,9 @@ size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& v
     RGB* area = light.areaInScatter(cell);  // (1 / 4 pi) sum of L Yhat_k: mean, harmonics
     const int count = light.coefficients();
     lights.forEachAreaSample(x, nullptr, rng, [&](const LightSample& s) {
-      const LightPath path = lightPath(ctx, volume, x, s.wi, s.distance, reduced, local);
+      const LightPath path = skyCubes && !s.fromEmitter
+                                 ? cubePath(ctx, *skyCubes, x, s.wi, s.distance)
+                                 : lightPath(ctx, volume, x, s.wi, s.distance, reduced, local);
       const RGB arriving = s.radiance * path.transmittance;
       const RGB arrivingClear = s.radiance * path.clear();
       const float cosTheta = dot(s.wi, viewDir);

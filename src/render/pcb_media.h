@@ -52,9 +52,17 @@ LvoxelSet sampleSceneLvoxels(const MediaSet& media, float spacing, int samplesPe
 // sums over the ranks give each rank every cell's light, as one process computes it.
 // Returns the number of cells this rank lit.
 inline constexpr size_t kLvoxelDirectBlock = 64;
+//
+// `skyCubes`: the cloud whose lvoxel cubes the sky's shadow rays cross instead of the
+// media (pointcloud.lvoxel_sky_shadow_media), or null. A cell's sky light is the sum of
+// lvoxel_light_samples directions, so the detail of the medium below a cell along any one
+// of them is averaged away, and the cubes keep the cell's mean transmittance; the one
+// direction of a delta light is seen sharp by the camera, and an emitter's light comes
+// from near by, so theirs keep the media's exact transmittance.
 size_t cacheLvoxelDirectLight(const RenderContext& ctx, const VolumeTransport& volume,
                               LvoxelLight& light, rte::SolveCounts& counts,
-                              Collective& team = singleProcess());
+                              Collective& team = singleProcess(),
+                              const PointCloud* skyCubes = nullptr);
 
 // For ray-traced gathers and camera rays: marks the lvoxels whose cube a surface cuts
 // (LvoxelSet::cut; surfaceCutsCube, its 8 corners seen from its centre) and the light's

@@ -42,7 +42,8 @@ RenderSettings parseRenderSettings(JsonObject r) {
                       ? r.integer("adaptive_spp", 0, 1 << 20, 0)
                       : r.choice("adaptive_spp", "auto", parseAutoAdaptive);
   if (s.adaptiveSpp > 0 && s.adaptiveSpp <= s.spp)
-    r.fail("adaptive_spp", "must be 0 (none) or more than render.spp (" + std::to_string(s.spp) + ")");
+    r.fail("adaptive_spp",
+           "must be 0 (none) or more than render.spp (" + std::to_string(s.spp) + ")");
   s.maxBounces = r.integer("max_bounces", 0, 1 << 16, s.maxBounces);
   s.seed = static_cast<uint64_t>(
       r.integer("seed", 0, std::numeric_limits<int>::max(), static_cast<int>(s.seed)));

@@ -648,5 +648,50 @@ TEST(PointBasedMedia, ShadowRaysOfTheIndirectLightThroughTheCubesSeeTheSlabAsThe
   }
 }
 
+// A noisy cloud of albedo 0.9 (one cell holds 1 to 5 mean free paths) under a sky and a low sun,
+// seen against the sky, or lit by an emitter beside it instead: the lvoxels' sky samples
+// through the media or through the cubes. The cubes keep each cell's mean transmittance,
+// and a cell's sky light sums 8 directions, so the images stay close; the emitter's samples
+// solve the media either way, so that image does not move at all.
+Image cloudUnderTheSky(const std::string& skyShadows, bool emitter, Report& report) {
+  const std::string lights =
+      emitter ? R"("materials": {"lamp": {"albedo": 0, "emission": 8}},
+    "shapes": [{"type": "quad", "material": "lamp",
+                "corners": [[1.6, -0.8, -0.8], [1.6, 0.8, -0.8], [1.6, 0.8, 0.8], [1.6, -0.8, 0.8]]}],
+    "lights": [],)"
+              : R"("lights": [{"type": "environment", "radiance": [0.6, 0.8, 1.2]},
+               {"type": "directional", "direction": [0.3, -0.5, 0.8], "irradiance": 2}],)";
+  const std::string text = R"({
+    "camera": {"position": [-0.4, 0.3, -4], "look_at": [0, 0, 0], "vfov_deg": 35, "width": 32, "height": 24},
+    "render": {"mode": "pcb", "spp": 4, "seed": 3},
+    )" + lights + R"(
+    "media": [{"type": "procedural", "kind": "noise", "frequency": 2,
+               "min": [-1, -1, -1], "max": [1, 1, 1], "sigma_a": 0.5, "sigma_s": 4.5}],
+    "pointcloud": {"lvoxel_spacing": 0.2, "lvoxel_sky_shadow_media": ")" +
+                           skyShadows + R"("}})";
+  return renderScene(parseScene(text, "/tmp/pcb-sky-cubes-test.json").job(), report);
+}
+
+TEST(PointBasedMedia, TheSkyReachesTheCellsThroughTheCubesAsThroughTheMedia) {
+  Report mediaReport, cubesReport;
+  const Image media = cloudUnderTheSky("media", false, mediaReport);
+  const ImageError cubes = compareImages(cloudUnderTheSky("cubes", false, cubesReport), media);
+  const auto evals = [](const Report& r) { return r.count("cache_medium_evals"); };
+  std::printf(
+      "cloud under the sky: cubes against media %.3f %% (mean %.5f); medium evaluations "
+      "of the cloud's light %llu (media) and %llu (cubes)\n",
+      cubes.deltaPercent, cubes.meanRatio, static_cast<unsigned long long>(evals(mediaReport)),
+      static_cast<unsigned long long>(evals(cubesReport)));
+  EXPECT_LT(cubes.deltaPercent, 1.0);
+  EXPECT_NEAR(cubes.meanRatio, 1.0, 0.005);
+  EXPECT_LT(evals(cubesReport), evals(mediaReport) / 4);
+
+  Report a, b;
+  const ImageError lamp =
+      compareImages(cloudUnderTheSky("cubes", true, a), cloudUnderTheSky("media", true, b));
+  EXPECT_EQ(lamp.deltaPercent, 0.0);
+  EXPECT_EQ(evals(a), evals(b));
+}
+
 }  // namespace
 }  // namespace lvox
