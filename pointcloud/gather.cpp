@@ -33,9 +33,9 @@ RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
 
 IrradianceParts gatherIrradianceParts(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                                       const GatherOptions& options, Rng& rng,
-                                      TraversalScratch& scratch) {
+                                      TraversalScratch& scratch, const Vec3* shading) {
   RadianceSink sink{cloud, RGB(0.0f)};
-  gatherIrradianceInto(cloud, p, n, options, rng, scratch, sink);
+  gatherIrradianceInto(cloud, p, n, options, rng, scratch, sink, shading);
   return {sink.radiance, sink.escaped * options.background};
 }
 

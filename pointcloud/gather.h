@@ -394,21 +394,27 @@ inline UnitPoint2 cosineRayPoint(const GatherOptions& options, int r, int c, int
 //   sum over all rays of L_s cos / (n_c cos / pi + n_l q(y) d^2 / |cos_y|),
 // which for a cosine ray is pi / n_c L_s times its share. The media's light along the rays
 // and the background are the cosine rays' alone, as without cells.
+//
+// `shading`, where given, is the shading normal of a smooth-shaded surface (facing n's
+// side): the cosine is its, as for the direct light and as MC's bounces take it, and a
+// direction below the geometric surface n brings nothing (MC ends its path there). The
+// rays still leave from just off the geometric surface.
 template <class Sink>
 void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                           const GatherOptions& options, Rng& rng, TraversalScratch& scratch,
-                          Sink& sink) {
+                          Sink& sink, const Vec3* shading = nullptr) {
+  const Vec3 cosineNormal = shading ? *shading : n;
   int lightRays = lightRaysOf(options);
   GatherMis mis;
   if (lightRays > 0) {
     mis.lights = options.lights;
     mis.view = options.lights->view(p, n);
-    mis.normal = n;
+    mis.normal = cosineNormal;
     if (mis.view.empty()) lightRays = 0;  // no light could reach this receiver
   }
   int rows, cols;
   strataGrid(options.samples - lightRays, rows, cols);
-  const Frame frame(n);
+  const Frame frame(cosineNormal);
   // Traced rays leave from just off the surface; rays through the cloud alone from the
   // surface, past `rayOffset`.
   const Vec3 origin = liftedOrigin(p, n, options);
@@ -421,6 +427,7 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
     for (int c = 0; c < cols; ++c) {
       const UnitPoint2 u = cosineRayPoint(options, r, c, rows, cols, rng);
       const Ray ray{origin, frame.toWorld(cosineHemisphere(u.u, u.v)), tmin, kInf};
+      if (shading && !(dot(ray.dir, n) > 0.0f)) continue;
       if (aimed)
         traceGatherRay(cloud, ray, options, scale, scratch, sink, {}, -1, CosineRayShare{mis},
                        RayStart::kOffSurface);
@@ -440,9 +447,9 @@ void gatherIrradianceInto(const PointCloud& cloud, const Vec3& p, const Vec3& n,
     const float distance = length(dir);
     if (!(distance > 0.0f) || !(y.pdfArea > 0.0f)) continue;
     dir = dir / distance;
-    const float cosine = dot(n, dir);
+    const float cosine = dot(cosineNormal, dir);
     const float cosAtY = -dot(y.normal, dir);  // the lit side must face the receiver
-    if (!(cosine > 0.0f) || !(cosAtY > 0.0f)) continue;
+    if (!(cosine > 0.0f) || !(cosAtY > 0.0f) || !(dot(n, dir) > 0.0f)) continue;
     const float pl = static_cast<float>(lightRays) * y.pdfArea * distance * distance / cosAtY;
     const float weight = cosine / (mis.cosineDensity(cosine) + pl);
     if (!std::isfinite(weight)) continue;
@@ -462,7 +469,7 @@ struct IrradianceParts {
 };
 IrradianceParts gatherIrradianceParts(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                                       const GatherOptions& options, Rng& rng,
-                                      TraversalScratch& scratch);
+                                      TraversalScratch& scratch, const Vec3* shading = nullptr);
 RGB gatherIrradiance(const PointCloud& cloud, const Vec3& p, const Vec3& n,
                      const GatherOptions& options, Rng& rng);
 

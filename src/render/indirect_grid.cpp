@@ -60,8 +60,8 @@ IndirectGrid::IndirectGrid(const RenderContext& ctx, const PointCloud& cloud,
       // four times as finely between them (interleaved sampling; docs/results.md).
       GatherOptions quartered = options;
       quartered.quarter = static_cast<int>((i & 1) | ((j & 1) << 1));
-      const IrradianceParts parts =
-          gatherIrradianceParts(cloud, hit.point, hit.normal, quartered, rng, scratch);
+      const IrradianceParts parts = gatherIrradianceParts(cloud, hit.point, hit.normal, quartered,
+                                                          rng, scratch, &hit.shading);
       irradiance[2 * static_cast<size_t>(j * nx_ + i)] = parts.cloud;
       irradiance[2 * static_cast<size_t>(j * nx_ + i) + 1] = parts.background;
     }

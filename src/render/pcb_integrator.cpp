@@ -549,8 +549,8 @@ PixelSampler pcbSampler(const RenderContext& ctx, const VolumeTransport& volume,
         thread_local TraversalScratch scratch;
         const DeltaHitLight::Counts before =
             cache.hitLight ? cache.hitLight->threadCounts() : DeltaHitLight::Counts{};
-        irradiance =
-            gatherIrradianceParts(*cache.cloud, hit.point, hit.normal, options, rng, scratch);
+        irradiance = gatherIrradianceParts(*cache.cloud, hit.point, hit.normal, options, rng,
+                                           scratch, &hit.shading);
         if (cache.hitLight) {  // the delta lights' shadow rays at this gather's hits
           const DeltaHitLight::Counts after = cache.hitLight->threadCounts();
           shadowRays += after.shadowRays - before.shadowRays;
