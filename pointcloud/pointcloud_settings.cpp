@@ -158,6 +158,7 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.bounceTolerance = p.number("bounce_tolerance", 0.0f, 1.0f, s.bounceTolerance);
   s.bounceTail =
       p.choice("bounce_tail", std::string(bounceTailName(s.bounceTail)), parseBounceTail);
+  s.bounceMixingDepth = p.integer("bounce_mixing_depth", 0, 16, s.bounceMixingDepth);
   s.surfelLightSamples = p.integer("surfel_light_samples", 1, 1 << 16, s.surfelLightSamples);
   s.lvoxelLightSamples = p.integer("lvoxel_light_samples", 1, 1 << 16, s.lvoxelLightSamples);
   s.lvoxelLightBlend =
@@ -227,6 +228,7 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "bounces", s.bounces);
   l.add(p + "bounce_tolerance", s.bounceTolerance);
   l.add(p + "bounce_tail", bounceTailName(s.bounceTail));
+  l.add(p + "bounce_mixing_depth", s.bounceMixingDepth);
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));

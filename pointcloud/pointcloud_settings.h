@@ -76,6 +76,9 @@ struct PointCloudSettings {
   // many passes").
   float bounceTolerance = 1e-3f;
   BounceTail bounceTail = BounceTail::kGeometric;
+  // Anderson mixing of the passes over this many past ones (light_cache.h,
+  // InterreflectionPasses); 0: plain passes. Only where the passes stop by the tolerance.
+  int bounceMixingDepth = 0;
   // Shadow rays per area light (and per sky) for the direct light the cloud caches, in
   // place of render.area_light_samples: a surfel's light reaches the image only through
   // gathers that average many surfels, an lvoxel's through trilinear interpolation

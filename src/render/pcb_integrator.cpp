@@ -444,7 +444,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
                             "the interreflection's weights");
       };
     const InterreflectionPasses plan(passes, settings.bounceTolerance,
-                                     settings.bounceTail == BounceTail::kGeometric);
+                                     settings.bounceTail == BounceTail::kGeometric,
+                                     settings.bounceMixingDepth);
     uint64_t previewRays = 0;
     const auto previewStart = std::chrono::steady_clock::now();
     const SurfelRays sideRays =
@@ -473,6 +474,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.settings["interreflection_passes"] = std::to_string(stats.passes);
     report.settings["interreflection_ratio"] = std::to_string(stats.ratio);
     report.settings["interreflection_tail"] = std::to_string(stats.tail);
+    report.settings["interreflection_mixed_passes"] = std::to_string(stats.mixedPasses);
     // Parts of "interreflection": the rest is the passes' products and updates.
     report.times["interreflection_trace"] = stats.traceSeconds;
     report.times["interreflection_preview"] = previewSeconds;

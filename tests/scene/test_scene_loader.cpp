@@ -195,6 +195,13 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.bounce_tolerance", "outside"});
   expectError(withPointCloud("\"bounce_tolerance\": 2"),
               {"pointcloud.bounce_tolerance", "outside"});
+  // Anderson mixing of the passes: off by default, 0-16 past passes.
+  EXPECT_EQ(minimal.pointcloud.bounceMixingDepth, 0);
+  EXPECT_EQ(parseScene(withPointCloud("\"bounce_mixing_depth\": 3"), "/tmp/scene.json")
+                .pointcloud.bounceMixingDepth,
+            3);
+  expectError(withPointCloud("\"bounce_mixing_depth\": 17"),
+              {"pointcloud.bounce_mixing_depth", "outside"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
