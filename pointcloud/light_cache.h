@@ -404,7 +404,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   if (mixes) {
     const size_t size = interreflectionStateSize(cloud, count);
     if (reserve)
-      reserve((2 + 1) * size * sizeof(float) +
+      reserve(2 * size * sizeof(float) +
               AndersonMixing::bytesFor(size, passes.andersonDepth));
     mixing.emplace(size, passes.andersonDepth);
   }
