@@ -117,17 +117,21 @@ TEST(GatherOperator, PassesAddBouncesOneAtATime) {
 // 0.9^(n+1) of it out), and every pass changes the inner sides by exactly 0.9 times the one
 // before: the series is one geometric mode, the case the pass plan's estimates are exact
 // for (light_cache.h, InterreflectionPasses).
+// The closed box of albedo 0.9 (inner sides converge to L = 10) through `plan`; `worst`:
+// the largest |L - 10| over the inner sides.
+InterreflectionStats runAlbedo09Box(const InterreflectionPasses& plan, float* worst) {
+  PointCloud pc = litBox(0.9f, 0.25f);
+  GatherOptions o;
+  o.samples = 4;
+  const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, plan, 5);
+  *worst = 0.0f;
+  for (size_t i = 0; i < pc.surfels().size(); ++i)
+    *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 10.0f));
+  return stats;
+}
+
 TEST(GatherOperator, PassesStopAtTheirToleranceAndTheTailCompletesTheSeries) {
-  auto run = [](const InterreflectionPasses& plan, float* worst) {
-    PointCloud pc = litBox(0.9f, 0.25f);
-    GatherOptions o;
-    o.samples = 4;
-    const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, plan, 5);
-    *worst = 0.0f;
-    for (size_t i = 0; i < pc.surfels().size(); ++i)
-      *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 10.0f));
-    return stats;
-  };
+  const auto run = runAlbedo09Box;
   float worst = 0.0f;
   // Without a tolerance, all the passes: 24 leave 0.9^25 = 7.2 % of the light out.
   EXPECT_EQ(run(24, &worst).passes, 24);
@@ -163,16 +167,7 @@ TEST(GatherOperator, PassesStopAtTheirToleranceAndTheTailCompletesTheSeries) {
 // one mode at 0.9 goes in a few mixed passes where plain ones take 64, within the
 // same bound on the rest; without a tolerance the passes stay plain (exact bounces).
 TEST(GatherOperator, MixedPassesReachTheToleranceInAFractionOfThePasses) {
-  auto run = [](const InterreflectionPasses& plan, float* worst) {
-    PointCloud pc = litBox(0.9f, 0.25f);
-    GatherOptions o;
-    o.samples = 4;
-    const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, plan, 5);
-    *worst = 0.0f;
-    for (size_t i = 0; i < pc.surfels().size(); ++i)
-      *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 10.0f));
-    return stats;
-  };
+  const auto run = runAlbedo09Box;
   float plainWorst = 0.0f, worst = 0.0f;
   const InterreflectionStats plain = run({500, 1e-3, false}, &plainWorst);
   const InterreflectionStats mixed = run({500, 1e-3, false, 3}, &worst);
