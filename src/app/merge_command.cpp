@@ -12,6 +12,7 @@
 #include "src/core/error.h"
 #include "src/core/exr_channels.h"
 #include "src/core/image_io.h"
+#include "src/render/render_settings.h"
 
 namespace lvox {
 namespace {
@@ -43,23 +44,32 @@ uint64_t numberAttribute(const ImageMetadata& meta, const std::string& key,
 }
 
 // Chunks of one image share every setting that changes it: the scene and its files, the
-// seed and mode, every setting of the render, the volume integrator and the point cloud.
-bool sharedSetting(const std::string& key) {
+// seed and mode, every setting of the render and the volume integrator, and in the pcb
+// modes the point cloud's. (Chunks of MC or direct renders made before lvox stopped
+// recording the cloud's settings there still carry them; they change nothing.)
+bool sharedSetting(const std::string& key, bool pointBased) {
   for (const char* exact :
        {"lvox.seed", "lvox.mode", "lvox.scene", "lvox.scene_hash", "lvox.layers"})
     if (key == exact) return true;
-  for (const char* prefix : {"lvox.render.", "lvox.volume_integrator.", "lvox.pointcloud."})
+  for (const char* prefix : {"lvox.render.", "lvox.volume_integrator."})
     if (key.rfind(prefix, 0) == 0) return true;
-  return false;
+  return pointBased && key.rfind("lvox.pointcloud.", 0) == 0;
+}
+
+bool pointBasedChunk(const ImageMetadata& meta, const std::string& path) {
+  const auto it = meta.find("lvox.mode");
+  return it != meta.end() && isPointBased(parseMode(it->second, path, "lvox.mode"));
 }
 
 void requireSameSettings(const ImageMetadata& meta, const ImageMetadata& first,
                          const std::string& path, const std::string& firstPath) {
+  // lvox.mode is itself shared: a pcb chunk beside an MC one is refused by it.
+  const bool pointBased = pointBasedChunk(first, firstPath) || pointBasedChunk(meta, path);
   std::map<std::string, std::pair<std::string, std::string>> keys;
   for (const auto& [key, value] : first)
-    if (sharedSetting(key)) keys[key].first = value;
+    if (sharedSetting(key, pointBased)) keys[key].first = value;
   for (const auto& [key, value] : meta)
-    if (sharedSetting(key)) keys[key].second = value;
+    if (sharedSetting(key, pointBased)) keys[key].second = value;
   for (const auto& [key, values] : keys)
     if (values.first != values.second)
       throw InputError(path, key,

@@ -226,8 +226,11 @@ RenderResult renderScene(const RenderJob& job, const RenderPlan& requested, Repo
   if (team.distributed()) report.settings["ranks"] = std::to_string(team.size());
   if (!plan.layers.empty()) report.settings["layers"] = plan.layers.toString();
   // Every setting that changes the image, by its scene field (lvox merge compares them).
-  for (const SettingList& list :
-       {describe(job.render), describe(job.volume), describe(job.pointcloud)})
+  // The point cloud's change only the pcb modes' images: an MC reference keeps merging
+  // across a change of the cloud's defaults.
+  std::vector<SettingList> lists{describe(job.render), describe(job.volume)};
+  if (isPointBased(settings.mode)) lists.push_back(describe(job.pointcloud));
+  for (const SettingList& list : lists)
     for (const auto& [field, value] : list.items()) report.settings[field] = value;
   // The samples the render took, "auto" resolved: a chunk with adaptive samples and one
   // without (--first-sample other than 0) are not chunks of one image, and lvox merge says so.

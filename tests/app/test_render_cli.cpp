@@ -390,6 +390,58 @@ TEST(RenderCli, MergeRefusesChunksWhoseSettingsOrSceneDiffer) {
   }
 }
 
+// The point cloud's settings change only pcb images. An MC chunk does not record them, and
+// MC chunks from before that (which carry them) merge with new ones even where a cloud
+// default has changed since; pcb chunks still must agree on them.
+TEST(RenderCli, MergeComparesTheCloudsSettingsOnlyInThePcbModes) {
+  const auto dir = test::tempDir();
+  // Without adaptive samples, so that pcb chunks from --first-sample 2 are chunks of one image.
+  test::writeFile(dir / "scene.json", replaced("\"spp\": 2}", "\"spp\": 2, \"adaptive_spp\": 0}"));
+  for (const std::string mode : {"mc", "pcb"})
+    for (const std::string first : {"0", "2"})
+      ASSERT_EQ(runLvox("render " + (dir / "scene.json").string() + " --mode " + mode +
+                            " --spp 2 --first-sample " + first + " -o " +
+                            (dir / (mode + first + ".exr")).string(),
+                        dir)
+                    .exitCode,
+                0);
+  const auto cloudKeys = [](const ImageMetadata& meta) {
+    return std::count_if(meta.begin(), meta.end(),
+                         [](const auto& kv) { return kv.first.rfind("lvox.pointcloud.", 0) == 0; });
+  };
+  // A chunk as an older lvox wrote it: the MC image with a cloud setting another default
+  // would give (the pcb chunk's keys, one of them changed).
+  ImageMetadata mc, pcb;
+  const Image mcImage = readExr((dir / "mc2.exr").string(), &mc);
+  readExr((dir / "pcb2.exr").string(), &pcb);
+  EXPECT_EQ(cloudKeys(mc), 0);
+  ASSERT_GT(cloudKeys(pcb), 5);
+  for (ImageMetadata* meta : {&mc, &pcb}) {
+    for (const auto& [key, value] : pcb)
+      if (key.rfind("lvox.pointcloud.", 0) == 0) (*meta)[key] = value;
+    (*meta)["lvox.pointcloud.surfel_gather_samples"] = "17";
+  }
+  writeExr((dir / "mc_old.exr").string(), mcImage, false, mc);
+  const Image pcbImage = readExr((dir / "pcb2.exr").string());
+  writeExr((dir / "pcb_old.exr").string(), pcbImage, false, pcb);
+
+  const auto merge = [&](const std::string& a, const std::string& b) {
+    return runLvox("merge " + (dir / a).string() + " " + (dir / b).string() + " -o " +
+                       (dir / "merged.exr").string(),
+                   dir);
+  };
+  EXPECT_EQ(merge("mc0.exr", "mc_old.exr").exitCode, 0);
+  ImageMetadata merged;
+  readExr((dir / "merged.exr").string(), &merged);
+  EXPECT_EQ(merged.at("lvox.spp"), "4");
+  fs::remove(dir / "merged.exr");
+  const RunResult r = merge("pcb0.exr", "pcb_old.exr");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("lvox.pointcloud.surfel_gather_samples: differs"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "merged.exr"));
+}
+
 // pcb's adaptive samples ("auto") need the whole image's first samples: a chunk from
 // --first-sample 0 takes them and a later chunk cannot (it warns). Their samples would
 // overlap, so merge refuses the pair, naming the setting.
