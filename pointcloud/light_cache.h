@@ -16,6 +16,7 @@
 #include "pointcloud/anderson_mixing.h"
 #include "pointcloud/gather.h"
 #include "pointcloud/gather_operator.h"
+#include "pointcloud/pointcloud_settings.h"
 #include "pointcloud/surfel_rays.h"
 #include "src/core/collective.h"
 #include "src/core/progress.h"
@@ -156,6 +157,19 @@ struct InterreflectionPasses {
   // no tail is added.
   int andersonDepth = 0;
   static constexpr int kPlainPasses = 3;
+  // Mixing chosen by the passes themselves (kAutoBounceMixing): they run plain, and after
+  // kAutoDecisionPass of them, if the plain stop rule's own prediction (plainPassesLeft)
+  // leaves kAutoMixingPasses or more to run, they go on mixed at depth kAutoDepth. A mix
+  // sweeps the state twice, about a third of a pass, and where few passes are left it
+  // saves none: mixed from the start the lamp hall took 9 -> 10 passes, the gallery
+  // 13 -> 11, Sponza 16 -> 14, the closed room 43 -> 17 and the open town 25 -> 11
+  // (docs/results.md, stop 56). After 6 passes the prediction is 1.4-6.6 passes on the
+  // first four, 12.9 and 15.0 on the last two: the ratio is still rising then, so it falls
+  // short of the passes the plain rule runs (37 and 19 more there), never above them.
+  bool autoMixing = false;
+  static constexpr int kAutoDecisionPass = 6;
+  static constexpr double kAutoMixingPasses = 10.0;
+  static constexpr int kAutoDepth = 3;
   // Under mixing, the rest a pass leaves is taken as its change times r / (1 - r), r the
   // larger of the plain passes' ratio and this floor: their early ratios fall short of the
   // series' (0.59 after the 3 plain passes in the closed room, 0.90 at 40), and mixed
@@ -164,9 +178,17 @@ struct InterreflectionPasses {
   static constexpr double kMixedRatioFloor = 0.95;
 
   InterreflectionPasses(int passes) : max(passes) {}  // NOLINT(google-explicit-constructor)
+  // `anderson`: a depth, 0, or kAutoBounceMixing (pointcloud_settings.h).
   InterreflectionPasses(int passes, double restTolerance, bool tail, int anderson = 0)
-      : max(passes), tolerance(restTolerance), geometricTail(tail), andersonDepth(anderson) {}
-  bool mixes() const { return andersonDepth > 0 && tolerance > 0.0; }
+      : max(passes),
+        tolerance(restTolerance),
+        geometricTail(tail),
+        andersonDepth(anderson == kAutoBounceMixing ? kAutoDepth : anderson),
+        autoMixing(anderson == kAutoBounceMixing) {}
+  // Mixing from the start (after kPlainPasses plain passes), whatever the passes show.
+  bool mixes() const { return andersonDepth > 0 && tolerance > 0.0 && !autoMixing; }
+  // Mixing left to the passes (autoMixing), which need a tolerance to stop by.
+  bool mayMix() const { return autoMixing && tolerance > 0.0; }
 };
 
 // The ratio of the bounce series from the changes of the passes so far (absolute sums, in
@@ -180,6 +202,22 @@ inline double bounceRatio(const std::vector<double>& changes) {
   return std::isfinite(ratio) && ratio < 1.0 ? ratio : 0.0;
 }
 
+// How many more plain passes the stop rule (cacheInterreflection) would run, from the
+// passes' absolute changes so far, the cloud's light `total` after the last and the
+// tolerance: at the series' ratio r (bounceRatio) the last change c shrinks to c r^n after
+// n passes, and the rule stops once c r^n r^2 / (1 - r), the rest the next pass would
+// leave, is below the tolerance times the light then, about total + c r / (1 - r) (a
+// pass's change adds to the light while the series rises). 0 where the ratio is not known
+// yet or the rule would stop now.
+inline double plainPassesLeft(const std::vector<double>& changes, double total, double tolerance) {
+  const double r = bounceRatio(changes);
+  const double c = changes.empty() ? 0.0 : changes.back();
+  if (r <= 0.0 || c <= 0.0) return 0.0;
+  const double light = total + c * r / (1.0 - r);
+  const double shrink = tolerance * light * (1.0 - r) / (c * r * r);
+  return shrink < 1.0 ? std::log(shrink) / std::log(r) : 0.0;
+}
+
 struct InterreflectionStats {
   size_t gatherRays = 0;  // traced once
   size_t entries = 0;     // weights kept (GatherOperator)
@@ -190,6 +228,9 @@ struct InterreflectionStats {
   std::vector<double> passChanges;  // the same for every pass, in order
   int passes = 0;                   // run
   int mixedPasses = 0;              // of those, the ones whose result Anderson mixing moved
+  // Under auto mixing: the plain passes the stop rule predicted were left at the decision
+  // pass (plainPassesLeft); 0 where the passes did not get that far.
+  double predictedPasses = 0.0;
   double ratio = 0.0;               // of the series, where the passes estimated it
   double tail = 0.0;             // the share of the light the last pass added as the geometric rest
   double traceSeconds = 0.0;     // tracing the gather rays into the operator (split)
@@ -263,18 +304,20 @@ inline void unpackInterreflectionState(PointCloud& cloud, size_t count,
 // `sideRays`: how many rays each surfel side traces and where they point (surfel_rays.h);
 // null: surfelOptions.samples each, jittered independently.
 //
+// `reserve(bytes)` holds the operator's memory block by block; `reserveMixing(bytes)` the
+// mixer's state (2 m + 4 copies of the cloud's), false if it does not fit: auto mixing
+// then stays plain (the caller throws instead under an explicit depth). Either may be empty.
+//
 // Over several ranks (`team`, every rank holding the same cloud) each traces and applies
 // its share of the operator's rows, and every pass sums the gathered radiance over the
 // ranks before updating the cloud: every rank ends with the cloud one process computes.
 // The stats' rays are all ranks'; its entries and bytes this rank's share.
 template <class Phase>
-InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
-                                          const GatherOptions& surfelOptions,
-                                          const GatherOptions& lvoxelOptions,
-                                          const InterreflectionPasses& passes, uint64_t seed,
-                                          Collective& team = singleProcess(),
-                                          const std::function<void(uint64_t)>& reserve = {},
-                                          const SurfelRays* sideRays = nullptr) {
+InterreflectionStats cacheInterreflection(
+    PointCloud& cloud, const Phase& phase, const GatherOptions& surfelOptions,
+    const GatherOptions& lvoxelOptions, const InterreflectionPasses& passes, uint64_t seed,
+    Collective& team = singleProcess(), const std::function<void(uint64_t)>& reserve = {},
+    const SurfelRays* sideRays = nullptr, const std::function<bool(uint64_t)>& reserveMixing = {}) {
   InterreflectionStats stats;
   if (passes.max <= 0) return stats;
   CloudSurfels& s = cloud.mutableSurfels();
@@ -397,16 +440,28 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
   std::vector<double> changes;  // absolute, per pass
   double lastTotal = 0.0;
   // Mixing: the state before the pass (x), after it (g), and the mixer's history.
-  const bool mixes = passes.mixes();
+  // Under auto mixing (passes.mayMix) the passes are plain until the decision pass, whose
+  // state before is kept in case they go on mixed; the mixer's first pass is then the next.
+  bool mixes = false;
+  int plainPasses = InterreflectionPasses::kPlainPasses;
   std::vector<float> stateBefore, stateAfter;
   std::optional<AndersonMixing> mixing;
   double plainRatio = 0.0;
-  if (mixes) {
+  auto startMixing = [&] {
     const size_t size = interreflectionStateSize(cloud, count);
-    if (reserve)
-      reserve(2 * size * sizeof(float) + AndersonMixing::bytesFor(size, passes.andersonDepth));
+    const uint64_t bytes =
+        2 * size * sizeof(float) + AndersonMixing::bytesFor(size, passes.andersonDepth);
+    // Every rank mixes or none: their budgets differ by their shares of the operator.
+    uint64_t fits[1] = {!reserveMixing || reserveMixing(bytes) ? 1u : 0u};
+    if (team.size() > 1) team.sum(std::span<uint64_t>(fits));
+    if (fits[0] != static_cast<uint64_t>(team.size())) return false;
     mixing.emplace(size, passes.andersonDepth);
-  }
+    return mixes = true;
+  };
+  if (passes.mixes()) startMixing();
+  const auto decides = [&](int pass) {
+    return passes.mayMix() && pass + 1 == InterreflectionPasses::kAutoDecisionPass;
+  };
   for (int pass = 0; pass < passes.max; ++pass) {
     // Is this the last pass? Its change is predicted as the last one's times the ratio.
     // Under mixing that is decided after the pass, from its own change.
@@ -416,7 +471,7 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
         changes.back() * ratio * ratio / (1.0 - ratio) < passes.tolerance * lastTotal;
     const bool last = pass + 1 == passes.max || converged;
     step = !mixes && last && passes.geometricTail && ratio > 0.0 ? 1.0 / (1.0 - ratio) : 1.0;
-    if (mixes) packInterreflectionState(cloud, count, stateBefore);
+    if (mixes || decides(pass)) packInterreflectionState(cloud, count, stateBefore);
     // The snapshot; the backgrounds, if any, are in the rows' constants.
     gathers.valuesInto(cloud, RGB(0.0f), values);
     std::fill(blockChange.begin(), blockChange.end(), 0.0);
@@ -456,14 +511,19 @@ InterreflectionStats cacheInterreflection(PointCloud& cloud, const Phase& phase,
     stats.passes = pass + 1;
     if (step != 1.0) stats.tail = stats.lastPassChange * ratio / (1.0 - ratio);
     bool done = last || (passes.tolerance > 0.0 && change == 0.0);
+    if (!done && decides(pass)) {
+      stats.predictedPasses = plainPassesLeft(changes, total, passes.tolerance);
+      // This pass gives the mixer its history: the next one's result is mixed.
+      if (stats.predictedPasses >= InterreflectionPasses::kAutoMixingPasses && startMixing())
+        plainPasses = pass + 2;
+    }
     if (mixes && !done) {
-      if (pass + 1 <= InterreflectionPasses::kPlainPasses) plainRatio = bounceRatio(changes);
+      if (pass + 1 <= plainPasses) plainRatio = bounceRatio(changes);
       const double r = std::max(plainRatio, InterreflectionPasses::kMixedRatioFloor);
-      done = pass + 1 >= InterreflectionPasses::kPlainPasses &&
-             change * r / (1.0 - r) < passes.tolerance * total;
-      if (!done && pass + 1 >= InterreflectionPasses::kPlainPasses - 1) {
-        // From the second pass on the mixer keeps the history (its first mix is plain), so
-        // the first kPlainPasses passes are plain and the next one starts mixed.
+      done = pass + 1 >= plainPasses && change * r / (1.0 - r) < passes.tolerance * total;
+      if (!done && pass + 1 >= plainPasses - 1) {
+        // From the pass before the last plain one on the mixer keeps the history (its first
+        // mix is plain), so the first plainPasses passes are plain and the next one mixes.
         packInterreflectionState(cloud, count, stateAfter);
         mixing->mix(stateBefore, stateAfter);
         if (mixing->used() > 0) {

@@ -33,13 +33,21 @@ constexpr Named<GatherFit> kFitNames[] = {{GatherFit::kConstant, "constant"},
 constexpr Named<LvoxelLightBlend> kBlendNames[] = {{LvoxelLightBlend::kLinear, "linear"},
                                                    {LvoxelLightBlend::kExponential, "exponential"}};
 
-// "gather_samples" given as a string: only "auto".
-int parseAutoGatherSamples(std::string_view text, const std::string& file,
-                           const std::string& field) {
-  if (text != "auto")
-    throw InputError(file, field,
-                     "expected a count of rays or \"auto\", got \"" + std::string(text) + "\"");
-  return kAutoGatherSamples;
+// A whole number in [lo, hi] (a JSON number) or "auto" (a string, or the key absent), which
+// gives `autoValue`; `what` names the number in the errors ("a count of rays").
+int countOrAuto(JsonObject& p, const std::string& key, const std::string& what, int lo, int hi,
+                int autoValue) {
+  const nlohmann::json* given = p.has(key) ? &p.raw(key) : nullptr;
+  if (given && !given->is_number() && !given->is_string())
+    p.fail(key, "expected " + what + " or \"auto\", got " + given->type_name());
+  if (given && given->is_number()) return p.integer(key, lo, hi, std::nullopt);
+  return p.choice(
+      key, "auto", [&](std::string_view text, const std::string& file, const std::string& field) {
+        if (text != "auto")
+          throw InputError(file, field,
+                           "expected " + what + " or \"auto\", got \"" + std::string(text) + "\"");
+        return autoValue;
+      });
 }
 
 }  // namespace
@@ -158,7 +166,7 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.bounceTolerance = p.number("bounce_tolerance", 0.0f, 1.0f, s.bounceTolerance);
   s.bounceTail =
       p.choice("bounce_tail", std::string(bounceTailName(s.bounceTail)), parseBounceTail);
-  s.bounceMixingDepth = p.integer("bounce_mixing_depth", 0, 16, s.bounceMixingDepth);
+  s.bounceMixingDepth = countOrAuto(p, "bounce_mixing_depth", "a depth", 0, 16, kAutoBounceMixing);
   s.surfelLightSamples = p.integer("surfel_light_samples", 1, 1 << 16, s.surfelLightSamples);
   s.lvoxelLightSamples = p.integer("lvoxel_light_samples", 1, 1 << 16, s.lvoxelLightSamples);
   s.lvoxelLightBlend =
@@ -185,14 +193,8 @@ PointCloudSettings parsePointCloudSettings(JsonObject p) {
   s.targetSurfels = p.integer("target_surfels", 1, 10'000'000, s.targetSurfels);
   s.surfelSampler = p.choice("surfel_sampler", std::string(surfelSamplerName(s.surfelSampler)),
                              parseSurfelSampler);
-  // A count (a JSON number) or "auto" (a string, or absent).
-  const nlohmann::json* given = p.has("gather_samples") ? &p.raw("gather_samples") : nullptr;
-  if (given && !given->is_number() && !given->is_string())
-    p.fail("gather_samples",
-           std::string("expected a count of rays or \"auto\", got ") + given->type_name());
-  s.gatherSamples = given && given->is_number()
-                        ? p.integer("gather_samples", 1, 1 << 16, std::nullopt)
-                        : p.choice("gather_samples", "auto", parseAutoGatherSamples);
+  s.gatherSamples =
+      countOrAuto(p, "gather_samples", "a count of rays", 1, 1 << 16, kAutoGatherSamples);
   s.gatherLightSamples = p.integer("gather_light_samples", 0, 1 << 16, s.gatherLightSamples);
   if (s.gatherLightSamples >= gatherLightSamplesBase(s))
     p.fail("gather_light_samples",
@@ -228,7 +230,10 @@ SettingList describe(const PointCloudSettings& s) {
   l.add(p + "bounces", s.bounces);
   l.add(p + "bounce_tolerance", s.bounceTolerance);
   l.add(p + "bounce_tail", bounceTailName(s.bounceTail));
-  l.add(p + "bounce_mixing_depth", s.bounceMixingDepth);
+  if (s.bounceMixingDepth == kAutoBounceMixing)
+    l.add(p + "bounce_mixing_depth", "auto");
+  else
+    l.add(p + "bounce_mixing_depth", s.bounceMixingDepth);
   l.add(p + "surfel_light_samples", s.surfelLightSamples);
   l.add(p + "lvoxel_light_samples", s.lvoxelLightSamples);
   l.add(p + "lvoxel_light_blend", lvoxelLightBlendName(s.lvoxelLightBlend));

@@ -55,6 +55,10 @@ enum class GatherFit { kConstant, kLinear };
 // largest term of the error, get more (docs/pcb.md, "How many final gather rays").
 constexpr int kAutoGatherSamples = 0;
 constexpr int kMinAutoGatherSamples = 64;
+// "bounce_mixing_depth": "auto" (the default): the passes run plain and turn to Anderson
+// mixing (at depth InterreflectionPasses::kAutoDepth) where the first ones predict many more
+// (light_cache.h, InterreflectionPasses::autoMixing; docs/pcb.md, "Mixing the passes").
+constexpr int kAutoBounceMixing = -1;
 constexpr int kMaxAutoGatherSamples = 512;
 
 struct PointCloudSettings {
@@ -77,8 +81,9 @@ struct PointCloudSettings {
   float bounceTolerance = 1e-3f;
   BounceTail bounceTail = BounceTail::kGeometric;
   // Anderson mixing of the passes over this many past ones (light_cache.h,
-  // InterreflectionPasses); 0: plain passes. Only where the passes stop by the tolerance.
-  int bounceMixingDepth = 0;
+  // InterreflectionPasses); 0: plain passes; kAutoBounceMixing: plain passes that turn to
+  // mixing where they converge slowly. Only where the passes stop by the tolerance.
+  int bounceMixingDepth = kAutoBounceMixing;
   // Shadow rays per area light (and per sky) for the direct light the cloud caches, in
   // place of render.area_light_samples: a surfel's light reaches the image only through
   // gathers that average many surfels, an lvoxel's through trilinear interpolation
@@ -95,13 +100,16 @@ struct PointCloudSettings {
   // emitters' shadow rays of the lvoxels always solve the media (docs/pcb.md, "Shadow
   // rays through the cubes").
   IndirectShadowMedia lvoxelSkyShadowMedia = IndirectShadowMedia::kCubes;
-  float burialReach = 4.0f;  // surfel spacings; 0 keeps buried surfels
+  // Surfel spacings; 0 keeps buried surfels. 8 since stop 57: at 4 the atrium's thick
+  // overlapping blocks kept 4,400 of their buried surfels (docs/results.md, stop 57).
+  float burialReach = 8.0f;
   GatherVisibility gatherVisibility = GatherVisibility::kRays;
   // With `rays` visibility: the triangle lattice's step (surfel spacings) that finds the
   // surfel standing for a gather ray's hit (triangle_surfel_lattice.h); 0: the exact
   // nearest-surfel search at every hit (surfel_lookup.h).
   float hitLatticeStep = 0.7f;
-  int surfelGatherSamples = 4;  // hemisphere rays per surfel side and pass, on average
+  // Hemisphere rays per surfel side and pass, on average (4 until stop 57).
+  int surfelGatherSamples = 8;
   SurfelRayAllocation surfelGatherAllocation = SurfelRayAllocation::kUniform;
   // Final gather rays per pixel (split over its samples), or kAutoGatherSamples: chosen
   // once the cloud is lit (finalGatherSamples).

@@ -33,6 +33,14 @@ void MemoryBudget::reserve(uint64_t bytes, const std::string& file, const std::s
   } while (!reserved_.compare_exchange_weak(held, held + bytes));
 }
 
+bool MemoryBudget::tryReserve(uint64_t bytes) {
+  uint64_t held = reserved_.load();
+  do {
+    if (bytes > limit_ || held > limit_ - bytes) return false;
+  } while (!reserved_.compare_exchange_weak(held, held + bytes));
+  return true;
+}
+
 void MemoryBudget::fail(uint64_t bytes, const std::string& file, const std::string& field,
                         const std::string& what) const {
   throw InputError(file, field,

@@ -24,6 +24,9 @@ class MemoryBudget {
              const std::string& what) const;
   void reserve(uint64_t bytes, const std::string& file, const std::string& field,
                const std::string& what);
+  // Holds `bytes` if they fit; false (nothing held) otherwise: for memory a render can do
+  // without (a faster method's state).
+  bool tryReserve(uint64_t bytes);
   uint64_t limit() const { return limit_; }
   uint64_t reserved() const { return reserved_.load(); }
 

@@ -443,6 +443,14 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         ctx.budget->reserve(bytes, sceneFile, "pointcloud.surfel_gather_samples",
                             "the interreflection's weights");
       };
+    std::function<bool(uint64_t)> reserveMixing;
+    if (ctx.budget)
+      reserveMixing = [&](uint64_t bytes) {
+        if (settings.bounceMixingDepth == kAutoBounceMixing) return ctx.budget->tryReserve(bytes);
+        ctx.budget->reserve(bytes, sceneFile, "pointcloud.bounce_mixing_depth",
+                            "the passes' mixing");
+        return true;
+      };
     const InterreflectionPasses plan(passes, settings.bounceTolerance,
                                      settings.bounceTail == BounceTail::kGeometric,
                                      settings.bounceMixingDepth);
@@ -457,7 +465,7 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - previewStart).count();
     const InterreflectionStats stats =
         cacheInterreflection(*cache.cloud, IsotropicPhase{}, surfelOptions, lvoxelOptions, plan,
-                             seed, team, reserve, &sideRays);
+                             seed, team, reserve, &sideRays, reserveMixing);
     cloudGatherRays = stats.gatherRays;
     report.add("cache_preview_rays", previewRays);
     report.add("cache_gather_rays", stats.gatherRays);
@@ -475,6 +483,8 @@ PointBasedCache buildPointCloud(const RenderContext& ctx, const VolumeTransport&
     report.settings["interreflection_ratio"] = std::to_string(stats.ratio);
     report.settings["interreflection_tail"] = std::to_string(stats.tail);
     report.settings["interreflection_mixed_passes"] = std::to_string(stats.mixedPasses);
+    if (plan.mayMix())  // what auto mixing decided from
+      report.settings["interreflection_predicted_passes"] = std::to_string(stats.predictedPasses);
     // Parts of "interreflection": the rest is the passes' products and updates.
     report.times["interreflection_trace"] = stats.traceSeconds;
     report.times["interreflection_preview"] = previewSeconds;

@@ -53,6 +53,20 @@ TEST(MemoryBudget, ChecksAndReservesUpToTheLimitExactly) {
   }
 }
 
+// tryReserve: for memory a render can do without (auto mixing's state) a refusal is an
+// answer, not an error, and holds nothing.
+TEST(MemoryBudget, TryReserveHoldsWhatFitsAndRefusesTheRest) {
+  MemoryBudget b(1000);
+  EXPECT_TRUE(b.tryReserve(600));
+  EXPECT_EQ(b.reserved(), 600u);
+  EXPECT_FALSE(b.tryReserve(401));
+  EXPECT_EQ(b.reserved(), 600u);
+  EXPECT_FALSE(b.tryReserve(~0ull));  // no overflow past the limit
+  EXPECT_TRUE(b.tryReserve(400));     // fits exactly
+  EXPECT_EQ(b.reserved(), 1000u);
+  EXPECT_FALSE(b.tryReserve(1));
+}
+
 TEST(MemoryBudget, ConcurrentReservationsNeverPassTheLimit) {
   // 10,000 reservations of 1 kB from many threads against 5 MB: exactly 5,000 succeed
   // (the limit is a multiple of the size), whatever the interleaving.

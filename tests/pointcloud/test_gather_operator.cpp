@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <vector>
 
 #include "pointcloud/gather_operator.h"
 #include "pointcloud/light_cache.h"
@@ -117,17 +119,25 @@ TEST(GatherOperator, PassesAddBouncesOneAtATime) {
 // 0.9^(n+1) of it out), and every pass changes the inner sides by exactly 0.9 times the one
 // before: the series is one geometric mode, the case the pass plan's estimates are exact
 // for (light_cache.h, InterreflectionPasses).
-// The closed box of albedo 0.9 (inner sides converge to L = 10) through `plan`; `worst`:
-// the largest |L - 10| over the inner sides.
-InterreflectionStats runAlbedo09Box(const InterreflectionPasses& plan, float* worst) {
-  PointCloud pc = litBox(0.9f, 0.25f);
+// The closed box of albedo `albedo` (inner sides converge to L = 1 / (1 - albedo)) through
+// `plan`; `worst`: the largest |L - 1 / (1 - albedo)| over the inner sides; `radiance`, if
+// given, the inner sides' result.
+InterreflectionStats runLitBox(float albedo, const InterreflectionPasses& plan, float* worst,
+                               const std::function<bool(uint64_t)>& reserveMixing = {},
+                               std::vector<RGB>* radiance = nullptr) {
+  PointCloud pc = litBox(albedo, 0.25f);
   GatherOptions o;
   o.samples = 4;
-  const InterreflectionStats stats = cacheInterreflection(pc, IsotropicPhase{}, o, o, plan, 5);
+  const InterreflectionStats stats = cacheInterreflection(
+      pc, IsotropicPhase{}, o, o, plan, 5, singleProcess(), {}, nullptr, reserveMixing);
   *worst = 0.0f;
   for (size_t i = 0; i < pc.surfels().size(); ++i)
-    *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 10.0f));
+    *worst = std::max(*worst, std::abs(pc.surfels().radianceFront[i].x - 1.0f / (1.0f - albedo)));
+  if (radiance) *radiance = pc.surfels().radianceFront;
   return stats;
+}
+InterreflectionStats runAlbedo09Box(const InterreflectionPasses& plan, float* worst) {
+  return runLitBox(0.9f, plan, worst);
 }
 
 TEST(GatherOperator, PassesStopAtTheirToleranceAndTheTailCompletesTheSeries) {
@@ -180,6 +190,73 @@ TEST(GatherOperator, MixedPassesReachTheToleranceInAFractionOfThePasses) {
   EXPECT_EQ(exact.passes, 24);
   EXPECT_EQ(exact.mixedPasses, 0);
   EXPECT_NEAR(worst, 10.0f * std::pow(0.9f, 25.0f), 1e-3f);
+}
+
+// The plain stop rule's prediction of its own passes (plainPassesLeft) on one geometric
+// mode of ratio r, pass k changing the light by r^k and the light the sum of those: after 6
+// passes it predicts the passes the rule (the one in cacheInterreflection) then runs, within
+// the one its rounding up adds.
+TEST(GatherOperator, PlainPassesLeftPredictsTheStopOfOneGeometricMode) {
+  for (double r : {0.6, 0.8, 0.9, 0.95}) {
+    std::vector<double> changes;
+    double total = 0.0, predicted = -1.0;
+    int passes = 0;
+    for (int pass = 0; pass < 2000; ++pass) {
+      const double ratio = bounceRatio(changes);
+      if (ratio > 0.0 && changes.back() * ratio * ratio / (1.0 - ratio) < 1e-3 * total) break;
+      changes.push_back(std::pow(r, pass));
+      total += changes.back();
+      passes = pass + 1;
+      if (passes == 6) predicted = plainPassesLeft(changes, total, 1e-3);
+    }
+    std::printf("ratio %.2f: %d plain passes, %.2f predicted left after 6\n", r, passes, predicted);
+    EXPECT_GT(predicted, passes - 6 - 1.0) << r;
+    EXPECT_LE(predicted, passes - 6) << r;
+  }
+  EXPECT_EQ(plainPassesLeft({1.0, 0.5}, 1.5, 1e-3), 0.0);        // no ratio from two passes
+  EXPECT_EQ(plainPassesLeft({1.0, 0.5, 1e-4}, 1.5, 1e-3), 0.0);  // it would stop now
+}
+
+// "bounce_mixing_depth": "auto": the albedo-0.9 box, with many passes left after 6, goes on
+// mixed and ends in a fraction of the plain passes within the same bound on the rest; the
+// albedo-0.5 box, few left, stays plain, bit for bit; and where the mixer's memory is
+// refused the passes stay plain too.
+TEST(GatherOperator, AutoMixingMixesOnlyWhereManyPassesAreLeft) {
+  const InterreflectionPasses autoPlan(500, 1e-3, false, kAutoBounceMixing);
+  ASSERT_TRUE(autoPlan.mayMix());
+  ASSERT_FALSE(autoPlan.mixes());
+  float plainWorst = 0.0f, worst = 0.0f;
+  const InterreflectionStats plain = runAlbedo09Box({500, 1e-3, false}, &plainWorst);
+  const InterreflectionStats mixed = runAlbedo09Box(autoPlan, &worst);
+  std::printf(
+      "albedo 0.9, auto: %d passes (%d mixed, %.1f predicted plain ones left), worst "
+      "%.2e; plain %d\n",
+      mixed.passes, mixed.mixedPasses, mixed.predictedPasses, worst, plain.passes);
+  EXPECT_GE(mixed.predictedPasses, InterreflectionPasses::kAutoMixingPasses);
+  EXPECT_LT(mixed.passes, plain.passes / 3);
+  EXPECT_GT(mixed.mixedPasses, 0);
+  EXPECT_EQ(mixed.mixedPasses, mixed.passes - InterreflectionPasses::kAutoDecisionPass - 1);
+  EXPECT_LT(worst, 0.011f);
+
+  uint64_t asked = 0;
+  const InterreflectionStats refused =
+      runLitBox(0.9f, autoPlan, &worst, [&](uint64_t bytes) { return asked = bytes, false; });
+  EXPECT_GT(asked, 0u);
+  EXPECT_EQ(refused.passes, plain.passes);
+  EXPECT_EQ(refused.mixedPasses, 0);
+
+  std::vector<RGB> plainHalf, autoHalf;
+  const InterreflectionStats fastPlain = runLitBox(0.5f, {500, 1e-3, true}, &worst, {}, &plainHalf);
+  const InterreflectionStats fastAuto =
+      runLitBox(0.5f, {500, 1e-3, true, kAutoBounceMixing}, &worst, {}, &autoHalf);
+  EXPECT_GT(fastPlain.passes, InterreflectionPasses::kAutoDecisionPass);
+  EXPECT_LT(fastAuto.predictedPasses, InterreflectionPasses::kAutoMixingPasses);
+  EXPECT_GT(fastAuto.predictedPasses, 0.0);
+  EXPECT_EQ(fastAuto.passes, fastPlain.passes);
+  EXPECT_EQ(fastAuto.mixedPasses, 0);
+  EXPECT_EQ(fastAuto.tail, fastPlain.tail);
+  ASSERT_EQ(autoHalf.size(), plainHalf.size());
+  for (size_t i = 0; i < autoHalf.size(); ++i) ASSERT_EQ(autoHalf[i].x, plainHalf[i].x) << i;
 }
 
 TEST(GatherOperator, EachKindOfRowSeesItsOwnBackground) {

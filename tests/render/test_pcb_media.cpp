@@ -183,13 +183,24 @@ TEST(PointBasedMedia, OwnCubeByQuadratureCutsMostOfTheRest) {
 // before. 24 passes (the default until stop 42) leave 1.2 % of its light out (measured
 // 0.13428 against 0.13586); the default pass plan stops by its tolerance and adds the
 // series' estimated rest, and must land as close to 400 passes as that tolerance says
-// (1e-3 of the cloud's light; measured: 39 passes, the same to 5 digits).
+// (1e-3 of the cloud's light; measured: 39 plain passes, the same to 5 digits). So must the
+// default, auto mixing, which finds many passes left after 6 and mixes the rest (13).
 TEST(PointBasedMedia, PassesRunUntilTheBounceSeriesHasConverged) {
   const std::string exact = R"("bounce_tolerance": 0, "bounce_tail": "none", "bounces": )";
   const double converged = reusedRaysCubeMean(16, 64, "quadrature", exact + "400");
   const double fixed24 = reusedRaysCubeMean(16, 64, "quadrature", exact + "24");
   Report report;
-  const double planned = reusedRaysCubeMean(16, 64, "quadrature", R"("bounces": 400)", &report);
+  const double planned = reusedRaysCubeMean(16, 64, "quadrature",
+                                            R"("bounces": 400, "bounce_mixing_depth": 0)", &report);
+  Report autoReport;
+  const double mixed = reusedRaysCubeMean(16, 64, "quadrature", R"("bounces": 400)", &autoReport);
+  const int mixedPasses = std::stoi(autoReport.settings.at("interreflection_passes"));
+  std::printf("auto mixing: %.5f in %d passes (%s mixed; %s predicted plain ones left)\n", mixed,
+              mixedPasses, autoReport.settings.at("interreflection_mixed_passes").c_str(),
+              autoReport.settings.at("interreflection_predicted_passes").c_str());
+  EXPECT_NEAR(mixed, converged, 1e-3 * converged);
+  EXPECT_GT(std::stoi(autoReport.settings.at("interreflection_mixed_passes")), 0);
+  EXPECT_LT(mixedPasses, std::stoi(report.settings.at("interreflection_passes")) / 2);
   const int passes = std::stoi(report.settings.at("interreflection_passes"));
   const double ratio = std::stod(report.settings.at("interreflection_ratio"));
   const std::string changes = report.settings.at("interreflection_pass_changes");

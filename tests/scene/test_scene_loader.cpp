@@ -195,13 +195,26 @@ TEST(SceneLoader, PointCloudSettingsAreRangeChecked) {
               {"pointcloud.bounce_tolerance", "outside"});
   expectError(withPointCloud("\"bounce_tolerance\": 2"),
               {"pointcloud.bounce_tolerance", "outside"});
-  // Anderson mixing of the passes: off by default, 0-16 past passes.
-  EXPECT_EQ(minimal.pointcloud.bounceMixingDepth, 0);
+  // Anderson mixing of the passes: "auto" by default (the passes choose), or 0-16 past
+  // passes.
+  EXPECT_EQ(minimal.pointcloud.bounceMixingDepth, kAutoBounceMixing);
+  EXPECT_EQ(parseScene(withPointCloud("\"bounce_mixing_depth\": \"auto\""), "/tmp/scene.json")
+                .pointcloud.bounceMixingDepth,
+            kAutoBounceMixing);
   EXPECT_EQ(parseScene(withPointCloud("\"bounce_mixing_depth\": 3"), "/tmp/scene.json")
                 .pointcloud.bounceMixingDepth,
             3);
+  EXPECT_EQ(parseScene(withPointCloud("\"bounce_mixing_depth\": 0"), "/tmp/scene.json")
+                .pointcloud.bounceMixingDepth,
+            0);
   expectError(withPointCloud("\"bounce_mixing_depth\": 17"),
               {"pointcloud.bounce_mixing_depth", "outside"});
+  expectError(withPointCloud("\"bounce_mixing_depth\": -1"),
+              {"pointcloud.bounce_mixing_depth", "outside"});
+  expectError(withPointCloud("\"bounce_mixing_depth\": \"fast\""),
+              {"pointcloud.bounce_mixing_depth", "a depth or \"auto\"", "fast"});
+  expectError(withPointCloud("\"bounce_mixing_depth\": true"),
+              {"pointcloud.bounce_mixing_depth", "a depth or \"auto\", got boolean"});
 }
 
 // Lvoxel clusters default by visibility: ray-traced gathers march every lvoxel (faster
