@@ -27,10 +27,7 @@ void MemoryBudget::check(uint64_t bytes, const std::string& file, const std::str
 
 void MemoryBudget::reserve(uint64_t bytes, const std::string& file, const std::string& field,
                            const std::string& what) {
-  uint64_t held = reserved_.load();
-  do {
-    if (bytes > limit_ || held > limit_ - bytes) fail(bytes, file, field, what);
-  } while (!reserved_.compare_exchange_weak(held, held + bytes));
+  if (!tryReserve(bytes)) fail(bytes, file, field, what);
 }
 
 bool MemoryBudget::tryReserve(uint64_t bytes) {
